@@ -1,0 +1,46 @@
+/// \file batch_chain.hpp
+/// \brief The whole chain in one process: NC → servo → optics → energy, chunk by chunk.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include "scanhead/core/chain_config.hpp"
+#include "scanhead/core/energy_stage.hpp"
+#include "scanhead/core/galvo_servo.hpp"
+#include "scanhead/core/nc_interpolator.hpp"
+#include "scanhead/core/optical_chain_stage.hpp"
+#include "scanhead/core/optical_model.hpp"
+
+namespace scanhead
+{
+/// \brief Called after each chunk with the samples done and the job's total.
+using ProgressCallback = std::function<void(std::uint64_t done, std::uint64_t total)>;
+
+class BatchChain
+{
+public:
+  /// \param[in] optics must outlive this object
+  BatchChain(const ChainConfig& config, const OpticalModel& optics);
+
+  /// \brief Runs a validated job to the end. The energy stage stays available for the map and traces.
+  RunMetrics run(const ScanJob& job, const ProgressCallback& progress = {});
+
+  const EnergyStage& energy() const { return *energy_; }
+  std::uint64_t totalSamples() const { return nc_.totalSamples(); }
+
+private:
+  ChainConfig config_;
+  const OpticalModel& optics_;
+  NcInterpolator nc_;
+  GalvoServo servo_;
+  OpticalChainStage optical_stage_;
+  std::unique_ptr<EnergyStage> energy_;
+};
+
+/// \brief Resolves a config path (optics.urdf_path…) against the installed share dir, then the source tree.
+std::string resolvePackagePath(const std::string& path);
+
+/// \brief The optical model the config names (URDF file resolved with resolvePackagePath).
+OpticalModel loadOpticalModel(const OpticsConfig& config);
+}  // namespace scanhead

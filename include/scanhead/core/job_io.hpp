@@ -1,0 +1,32 @@
+/// \file job_io.hpp
+/// \brief Scan jobs as YAML files (SI units), with validation that names the file, line and field.
+///
+/// \code
+/// name: corner_53deg
+/// polylines:
+///   - type: mark          # mark | jump
+///     speed: 2.0          # m/s, > 0
+///     power: 200.0        # W, >= 0 (optional on jumps)
+///     points: [[-0.004, 0.0], [0.0, 0.0], [0.0024, 0.0032]]   # m, work-plane frame, >= 2 points
+/// \endcode
+#pragma once
+
+#include <string>
+
+#include "scanhead/core/scan_job.hpp"
+
+namespace scanhead
+{
+/// \brief Parses a job. \throws InputError "source:line: field: what is wrong"
+ScanJob parseScanJobYaml(const std::string& yaml_text, const std::string& source);
+
+/// \brief Reads and parses a job file. \throws InputError
+ScanJob loadScanJobFile(const std::string& path);
+
+/// \brief Checks speeds, powers, finiteness, point counts and that every point lies in the
+/// square field |x|, |y| <= \p field_half_width_m. \throws InputError naming the polyline and point
+void validateScanJob(const ScanJob& job, double field_half_width_m);
+
+/// \brief The job as YAML in the format above (full precision; parses back to the same job).
+std::string scanJobToYaml(const ScanJob& job);
+}  // namespace scanhead

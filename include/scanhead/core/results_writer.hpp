@@ -1,0 +1,25 @@
+/// \file results_writer.hpp
+/// \brief Writes a run's results folder atomically: built in a sibling temporary folder and
+/// renamed into place, so a failed run never leaves a half-written folder.
+///
+/// Contents: metrics.yaml, config.yaml (the settings used), job.yaml, trace.csv (decimated spot
+/// stream), energy_map.png (colour map with a colour bar; scale in energy_map.yaml),
+/// energy_map_16bit.png (linear, 0..peak) and energy_map.yaml (geometry and scale).
+#pragma once
+
+#include <string>
+
+#include "scanhead/core/chain_config.hpp"
+#include "scanhead/core/energy_stage.hpp"
+#include "scanhead/core/run_metrics.hpp"
+#include "scanhead/core/scan_job.hpp"
+
+namespace scanhead
+{
+/// \brief Marker file that identifies a scanhead results folder (such a folder may be replaced).
+constexpr const char* kResultsMarker = ".scanhead_results";
+
+/// \throws InputError if \p dir exists and is neither empty nor a previous results folder
+void writeResultsFolder(const std::string& dir, const RunMetrics& metrics, const EnergyStage& energy,
+                        const ChainConfig& config, const ScanJob& job);
+}  // namespace scanhead

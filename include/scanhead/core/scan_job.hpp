@@ -1,0 +1,51 @@
+/// \file scan_job.hpp
+/// \brief The CAM scan path: polylines in the work-plane frame, each MARK or JUMP.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace scanhead
+{
+enum class PolylineType
+{
+  Mark,  ///< laser on along the polyline
+  Jump   ///< laser off, mirrors repositioning
+};
+
+struct Polyline
+{
+  PolylineType type = PolylineType::Mark;
+  double speed_mps = 1.0;  ///< programmed tangential speed [m/s], > 0
+  double power_w = 0.0;    ///< laser power while marking [W], >= 0 (ignored on jumps)
+  std::vector<Eigen::Vector2d> points;  ///< vertices [m], work-plane frame, at least 2
+};
+
+struct ScanJob
+{
+  std::string name;    ///< short identifier, used in reports
+  std::string source;  ///< where it came from (file path or built-in description)
+  std::vector<Polyline> polylines;
+};
+
+using Job = ScanJob;  // transitional alias: ScanJob is being renamed to Job (the message owns ScanJob)
+
+/// \brief A direction change inside a MARK polyline (vertex i of polyline p).
+struct Corner
+{
+  std::size_t polyline = 0;
+  std::size_t vertex = 0;
+  Eigen::Vector2d point = Eigen::Vector2d::Zero();  ///< commanded corner [m]
+  double angle_rad = 0.0;                           ///< direction change gamma (0 = straight on)
+  double speed_mps = 0.0;                           ///< programmed speed of the polyline
+  double time_s = 0.0;     ///< time the ideal timeline reaches the corner [s]
+  double window_in_s = 0.0;   ///< half the duration of the incoming segment [s]
+  double window_out_s = 0.0;  ///< half the duration of the outgoing segment [s]
+};
+
+/// \brief Corners of more than \p min_angle_rad inside MARK polylines, with their ideal times.
+/// \param[in] job  a validated job
+/// \param[in] implicit_jump_speed_mps speed of the jumps inserted between non-contiguous polylines
+std::vector<Corner> findCorners(const ScanJob& job, double min_angle_rad, double implicit_jump_speed_mps);
+}  // namespace scanhead

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs the dependencies, builds, and runs the whole test suite (gtest + rostest).
+# Fails if any test fails or if no test ran.
+set -euo pipefail
+cd "$(dirname "$0")"
+scripts/install_deps.sh
+scripts/build.sh
+set +u
+. install/setup.sh
+set -u
+export PATH="/usr/bin:$PATH"
+export ROS_IP=127.0.0.1
+# A master port of our own, so two runs (or a running virtual machine) never collide.
+export ROS_MASTER_URI="http://127.0.0.1:$((20000 + $$ % 10000))"
+rm -rf build/scanhead/test_results
+colcon test --event-handlers console_direct- --return-code-on-test-failure --ctest-args --output-on-failure
+colcon test-result --verbose --test-result-base build/scanhead/test_results
+count=$(find build/scanhead/test_results -name '*.xml' | xargs grep -ho 'tests="[0-9]*"' | tr -dc '0-9\n' | paste -sd+ | bc)
+echo "test cases run: ${count:-0}"
+[ "${count:-0}" -gt 0 ] || { echo "no test ran" >&2; exit 1; }

@@ -1,0 +1,46 @@
+#include "scanhead/core/batch_chain.hpp"
+
+#include <fstream>
+
+namespace scanhead
+{
+BatchChain::BatchChain(const ChainConfig& config, const OpticalModel& optics)
+  : config_(config), optics_(optics), nc_(config.nc, optics), servo_(config.servo, config.nc.period_s), optical_stage_(optics)
+{
+}
+
+RunMetrics BatchChain::run(const ScanJob& job, const ProgressCallback& progress)
+{
+  nc_.start(job);
+  energy_ = std::make_unique<EnergyStage>(config_, job, nc_.totalSamples());
+  while (!nc_.done())
+  {
+    const NcOutput nc = nc_.process(config_.stream.chunk_samples);
+    if (nc.setpoint.first_index == 0 && !nc.setpoint.samples.empty())
+      servo_.reset(nc.setpoint.samples.front().position);  // at rest where the job starts
+    const JointChunk joints = servo_.process(nc.setpoint);
+    energy_->process(optical_stage_.process(nc.setpoint, joints, nc.laser));
+    if (progress)
+      progress(nc.setpoint.endIndex(), nc_.totalSamples());
+  }
+  return energy_->finish();
+}
+
+std::string resolvePackagePath(const std::string& path)
+{
+  if (path.empty() || path.front() == '/' || std::ifstream(path).good())
+    return path;
+  for (const std::string root : {std::string(SCANHEAD_SHARE_DIR), std::string(SCANHEAD_SOURCE_DIR)})
+  {
+    const std::string candidate = root + "/" + path;
+    if (std::ifstream(candidate).good())
+      return candidate;
+  }
+  return path;
+}
+
+OpticalModel loadOpticalModel(const OpticsConfig& config)
+{
+  return OpticalModel(geometryFromUrdfFile(resolvePackagePath(config.urdf_path)), config);
+}
+}  // namespace scanhead

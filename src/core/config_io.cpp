@@ -1,0 +1,267 @@
+#include "scanhead/core/config_io.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "scanhead/core/errors.hpp"
+
+namespace scanhead
+{
+namespace
+{
+/// Calls f(key, member) for every setting: the single list of keys, used to read, write and check.
+template <class Config, class F>
+void visitSettings(Config& c, F&& f)
+{
+  f("stream.chunk_samples", c.stream.chunk_samples);
+  f("stream.window_chunks", c.stream.window_chunks);
+  f("nc.period_s", c.nc.period_s);
+  f("nc.fir_t1_s", c.nc.fir_t1_s);
+  f("nc.fir_t2_s", c.nc.fir_t2_s);
+  f("nc.max_joint_speed_radps", c.nc.max_joint_speed_radps);
+  f("nc.implicit_jump_speed_mps", c.nc.implicit_jump_speed_mps);
+  f("nc.tail_s", c.nc.tail_s);
+  f("nc.debug", c.nc.debug);
+  f("servo.model", c.servo.model);
+  f("servo.x.bandwidth_hz", c.servo.x.bandwidth_hz);
+  f("servo.x.damping", c.servo.x.damping);
+  f("servo.x.pole_ratio", c.servo.x.pole_ratio);
+  f("servo.y.bandwidth_hz", c.servo.y.bandwidth_hz);
+  f("servo.y.damping", c.servo.y.damping);
+  f("servo.y.pole_ratio", c.servo.y.pole_ratio);
+  f("servo.kc_over_jeq", c.servo.kc_over_jeq);
+  f("optics.urdf_path", c.optics.urdf_path);
+  f("optics.window_thickness_m", c.optics.window_thickness_m);
+  f("optics.n_gas", c.optics.n_gas);
+  f("optics.n_window", c.optics.n_window);
+  f("optics.field_half_width_m", c.optics.field_half_width_m);
+  f("optics.newton_tolerance_m", c.optics.newton_tolerance_m);
+  f("optics.newton_max_iterations", c.optics.newton_max_iterations);
+  f("energy.spot_diameter_m", c.energy.spot_diameter_m);
+  f("energy.pixel_m", c.energy.pixel_m);
+  f("energy.max_substep_radii", c.energy.max_substep_radii);
+  f("energy.truncation_radii", c.energy.truncation_radii);
+  f("energy.map_margin_m", c.energy.map_margin_m);
+  f("energy.corner_min_angle_deg", c.energy.corner_min_angle_deg);
+}
+
+std::string origin(const std::string& key, const ConfigValue& v)
+{
+  return key + " (" + v.where + ")";
+}
+
+void parseValue(const std::string& key, const ConfigValue& v, double& out)
+{
+  std::size_t used = 0;
+  double value = 0.0;
+  try
+  {
+    value = std::stod(v.text, &used);
+  }
+  catch (const std::exception&)
+  {
+    used = 0;
+  }
+  if (used == 0 || used != v.text.size())
+    throw ConfigError(origin(key, v) + ": '" + v.text + "' is not a number");
+  if (!std::isfinite(value))
+    throw ConfigError(origin(key, v) + ": '" + v.text + "' is not a finite number");
+  out = value;
+}
+
+void parseValue(const std::string& key, const ConfigValue& v, std::size_t& out)
+{
+  double value = 0.0;
+  parseValue(key, v, value);
+  if (value < 0.0 || value != std::floor(value) || value > 1e15)
+    throw ConfigError(origin(key, v) + ": '" + v.text + "' is not a non-negative integer");
+  out = static_cast<std::size_t>(value);
+}
+
+void parseValue(const std::string& key, const ConfigValue& v, int& out)
+{
+  double value = 0.0;
+  parseValue(key, v, value);
+  if (value != std::floor(value) || std::fabs(value) > 1e9)
+    throw ConfigError(origin(key, v) + ": '" + v.text + "' is not an integer");
+  out = static_cast<int>(value);
+}
+
+void parseValue(const std::string& key, const ConfigValue& v, bool& out)
+{
+  if (v.text == "true" || v.text == "True" || v.text == "1")
+    out = true;
+  else if (v.text == "false" || v.text == "False" || v.text == "0")
+    out = false;
+  else
+    throw ConfigError(origin(key, v) + ": '" + v.text + "' is not true or false");
+}
+
+void parseValue(const std::string&, const ConfigValue& v, std::string& out)
+{
+  out = v.text;
+}
+
+std::string formatValue(double v)
+{
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  return buffer;
+}
+std::string formatValue(std::size_t v) { return std::to_string(v); }
+std::string formatValue(int v) { return std::to_string(v); }
+std::string formatValue(bool v) { return v ? "true" : "false"; }
+std::string formatValue(const std::string& v) { return "\"" + v + "\""; }
+
+void flattenNode(const YAML::Node& node, const std::string& prefix, const std::string& source, FlatConfig& out)
+{
+  const std::string where = source + ":" + std::to_string(node.Mark().line + 1);
+  if (node.IsScalar())
+  {
+    out[prefix] = ConfigValue{node.Scalar(), where};
+    return;
+  }
+  if (node.IsNull())
+    return;
+  if (!node.IsMap())
+    throw InputError(where + ": " + (prefix.empty() ? std::string("the file") : prefix) +
+                     " must be a map of settings, not a list");
+  for (const auto& item : node)
+  {
+    const std::string key = item.first.as<std::string>();
+    flattenNode(item.second, prefix.empty() ? key : prefix + "." + key, source, out);
+  }
+}
+
+std::string joinKeys()
+{
+  std::string all;
+  for (const auto& k : knownConfigKeys())
+    all += (all.empty() ? "" : ", ") + k;
+  return all;
+}
+}  // namespace
+
+std::vector<std::string> knownConfigKeys()
+{
+  std::vector<std::string> keys;
+  ChainConfig c;
+  visitSettings(c, [&](const char* key, auto&) { keys.emplace_back(key); });
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+FlatConfig flattenYaml(const std::string& yaml_text, const std::string& source)
+{
+  YAML::Node root;
+  try
+  {
+    root = YAML::Load(yaml_text);
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+  }
+  FlatConfig flat;
+  flattenNode(root, "", source, flat);
+  return flat;
+}
+
+void applyOverride(FlatConfig& flat, const std::string& assignment)
+{
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ConfigError("--set '" + assignment + "': expected section.key=value");
+  const std::string key = assignment.substr(0, eq);
+  const auto keys = knownConfigKeys();
+  if (!std::binary_search(keys.begin(), keys.end(), key))
+    throw ConfigError("--set '" + assignment + "': unknown key '" + key + "' (known: " + joinKeys() + ")");
+  flat[key] = ConfigValue{assignment.substr(eq + 1), "--set"};
+}
+
+ChainConfig chainConfigFromFlat(const FlatConfig& flat)
+{
+  ChainConfig config;
+  std::size_t used = 0;
+  visitSettings(config, [&](const char* key, auto& member) {
+    const auto it = flat.find(key);
+    if (it == flat.end())
+      return;
+    parseValue(key, it->second, member);
+    ++used;
+  });
+  if (used != flat.size())
+  {
+    const auto keys = knownConfigKeys();
+    for (const auto& [key, value] : flat)
+      if (!std::binary_search(keys.begin(), keys.end(), key))
+        throw ConfigError(origin(key, value) + ": unknown setting (known: " + joinKeys() + ")");
+  }
+  config.validate();
+  return config;
+}
+
+ChainConfig loadChainConfig(const std::string& path, const std::vector<std::string>& overrides)
+{
+  FlatConfig flat;
+  if (!path.empty())
+  {
+    std::ifstream in(path);
+    if (!in)
+      throw InputError(path + ": cannot open the config file");
+    std::stringstream text;
+    text << in.rdbuf();
+    flat = flattenYaml(text.str(), path);
+  }
+  for (const auto& assignment : overrides)
+    applyOverride(flat, assignment);
+  return chainConfigFromFlat(flat);
+}
+
+std::string chainConfigToYaml(const ChainConfig& config)
+{
+  // Settings are visited grouped by section, so one line per key under its section headers.
+  std::ostringstream out;
+  std::vector<std::string> open;  // section path currently written
+  ChainConfig copy = config;
+  visitSettings(copy, [&](const char* key, auto& member) {
+    std::vector<std::string> parts;
+    std::stringstream ss(key);
+    for (std::string part; std::getline(ss, part, '.');)
+      parts.push_back(part);
+    std::size_t common = 0;
+    while (common < open.size() && common + 1 < parts.size() && open[common] == parts[common])
+      ++common;
+    open.resize(common);
+    for (std::size_t i = common; i + 1 < parts.size(); ++i)
+    {
+      out << std::string(2 * i, ' ') << parts[i] << ":\n";
+      open.push_back(parts[i]);
+    }
+    out << std::string(2 * (parts.size() - 1), ' ') << parts.back() << ": " << formatValue(member) << "\n";
+  });
+  return out.str();
+}
+
+void StreamConfig::validate() const
+{
+  if (chunk_samples < 1)
+    throw ConfigError("stream.chunk_samples must be >= 1 (got " + std::to_string(chunk_samples) + ")");
+  if (window_chunks < 1)
+    throw ConfigError("stream.window_chunks must be >= 1 (got " + std::to_string(window_chunks) + ")");
+}
+
+void ChainConfig::validate() const
+{
+  stream.validate();
+  nc.validate();
+  servo.validate();
+  optics.validate();
+  energy.validate();
+}
+}  // namespace scanhead

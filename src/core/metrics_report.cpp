@@ -1,0 +1,84 @@
+#include "scanhead/core/metrics_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace scanhead
+{
+namespace
+{
+std::string num(double v)
+{
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  return buffer;
+}
+
+std::string stats(const CornerPathStats& s)
+{
+  return "{min_speed_mps: " + num(s.min_speed_mps) + ", max_contour_error_m: " + num(s.max_contour_error_m) + "}";
+}
+
+double relative(double value, double reference)
+{
+  return reference != 0.0 ? (value - reference) / reference : 0.0;
+}
+}  // namespace
+
+std::string metricsToYaml(const RunMetrics& m)
+{
+  std::ostringstream out;
+  out << "job: \"" << m.job_name << "\"\n";
+  out << "samples: " << m.samples << "\n";
+  out << "dropped_samples: " << m.dropped_samples << "\n";
+  out << "duration_s: " << num(m.duration_s) << "\n";
+  out << "laser_on_time_s: " << num(m.laser_on_time_s) << "\n";
+  out << "commanded_energy_j: " << num(m.commanded_energy_j) << "\n";
+  out << "deposited_energy_j: " << num(m.deposited_energy_j) << "\n";
+  out << "energy_outside_map_j: " << num(m.energy_outside_map_j) << "\n";
+  out << "peak_energy_density_jpm2: " << num(m.peak_energy_density_jpm2) << "\n";
+  out << "corners:" << (m.corners.empty() ? " []\n" : "\n");
+  for (const CornerReport& c : m.corners)
+  {
+    out << "  - polyline: " << c.corner.polyline << "\n";
+    out << "    vertex: " << c.corner.vertex << "\n";
+    out << "    point_m: [" << num(c.corner.point.x()) << ", " << num(c.corner.point.y()) << "]\n";
+    out << "    angle_deg: " << num(c.corner.angle_rad * 180.0 / M_PI) << "\n";
+    out << "    programmed_speed_mps: " << num(c.corner.speed_mps) << "\n";
+    out << "    setpoint: " << stats(c.setpoint) << "\n";
+    out << "    actual: " << stats(c.actual) << "\n";
+    out << "    theory: " << stats(c.theory) << "\n";
+  }
+  return out.str();
+}
+
+std::string metricsTable(const RunMetrics& m)
+{
+  char line[256];
+  std::string out;
+  std::snprintf(line, sizeof line, "job %s: %llu samples (%llu dropped), %.3f ms, laser on %.3f ms\n",
+                m.job_name.c_str(), static_cast<unsigned long long>(m.samples),
+                static_cast<unsigned long long>(m.dropped_samples), m.duration_s * 1e3, m.laser_on_time_s * 1e3);
+  out += line;
+  std::snprintf(line, sizeof line, "energy: commanded %.6f J, deposited %.6f J (%+.4f %%), off the map %.3g J, peak %.4g J/mm²\n",
+                m.commanded_energy_j, m.deposited_energy_j, 100.0 * relative(m.deposited_energy_j, m.commanded_energy_j),
+                m.energy_outside_map_j, m.peak_energy_density_jpm2 * 1e-6);
+  out += line;
+  if (m.corners.empty())
+    return out;
+  out += "corner  angle[deg]  V[mm/s] | min speed [mm/s]: setpoint  actual  theory (sp err) | contour error [um]: setpoint  actual  theory (sp err)\n";
+  for (std::size_t i = 0; i < m.corners.size(); ++i)
+  {
+    const CornerReport& c = m.corners[i];
+    std::snprintf(line, sizeof line, "%6zu  %10.2f  %7.0f | %26.1f %7.1f %7.1f (%+.2f %%) | %28.2f %7.2f %7.2f (%+.2f %%)\n",
+                  i, c.corner.angle_rad * 180.0 / M_PI, c.corner.speed_mps * 1e3, c.setpoint.min_speed_mps * 1e3,
+                  c.actual.min_speed_mps * 1e3, c.theory.min_speed_mps * 1e3,
+                  100.0 * relative(c.setpoint.min_speed_mps, c.theory.min_speed_mps), c.setpoint.max_contour_error_m * 1e6,
+                  c.actual.max_contour_error_m * 1e6, c.theory.max_contour_error_m * 1e6,
+                  100.0 * relative(c.setpoint.max_contour_error_m, c.theory.max_contour_error_m));
+    out += line;
+  }
+  return out;
+}
+}  // namespace scanhead

@@ -1,0 +1,68 @@
+#include "bag_source_ros.hpp"
+
+#include "scanhead/core/errors.hpp"
+
+namespace scanhead
+{
+BagSourceNode::BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
+  : setpoint_out_(nh, "nc/setpoint", expectedSubscribers(nh, private_nh, "setpoint_subscribers", 2))
+  , laser_out_(nh, "nc/laser", expectedSubscribers(nh, private_nh, "laser_subscribers", 1))
+{
+  std::string path;
+  if (!private_nh.getParam("bag", path) || path.empty())
+    throw ConfigError("~bag: the bag to replay is not set (bag:=FILE)");
+  int window_chunks = 16, chunk_samples = 1000;
+  private_nh.param("window_chunks", window_chunks, window_chunks);
+  nh.param("config/stream/chunk_samples", chunk_samples, chunk_samples);
+  window_samples_ = static_cast<std::uint64_t>(std::max(1, window_chunks)) * std::max(1, chunk_samples);
+  bag_.open(path, rosbag::bagmode::Read);
+  const std::vector<std::string> topics = {nh.resolveName("cam/job"), nh.resolveName("nc/setpoint"),
+                                           nh.resolveName("nc/laser")};
+  view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(topics));
+  if (view_->size() == 0)
+    throw InputError(path + ": no cam/job, nc/setpoint or nc/laser messages to replay");
+  next_ = view_->begin();
+  job_pub_ = nh.advertise<ScanJob>("cam/job", 1, true);
+  ack_sub_ = nh.subscribe("energy/ack", 100, &BagSourceNode::onAck, this);
+  timer_ = nh.createTimer(ros::Duration(0.01), &BagSourceNode::onTimer, this);
+  ROS_INFO("bag_source: replaying %u messages from %s", view_->size(), path.c_str());
+}
+
+void BagSourceNode::onAck(const ChunkAck& msg)
+{
+  if (msg.job_id == job_id_ && msg.next_index > acked_)
+  {
+    acked_ = msg.next_index;
+    pump();
+  }
+}
+
+void BagSourceNode::onTimer(const ros::TimerEvent&)
+{
+  setpoint_out_.flush();
+  laser_out_.flush();
+  pump();
+}
+
+void BagSourceNode::pump()
+{
+  while (next_ != view_->end() && published_ < acked_ + window_samples_)
+  {
+    const rosbag::MessageInstance& m = *next_;
+    if (const auto job = m.instantiate<ScanJob>())
+    {
+      job_id_ = job->job_id;
+      published_ = acked_ = 0;
+      job_pub_.publish(*job);
+    }
+    else if (const auto setpoint = m.instantiate<NcSetpoint>())
+    {
+      setpoint_out_.push(*setpoint);
+      published_ = setpoint->chunk.first_index + setpoint->trajectory.points.size();
+    }
+    else if (const auto laser = m.instantiate<NcLaser>())
+      laser_out_.push(*laser);
+    ++next_;
+  }
+}
+}  // namespace scanhead

@@ -1,0 +1,47 @@
+/// \file bag_source_ros.hpp
+/// \brief Replays the NC's output from a recorded bag (cam/job, nc/setpoint, nc/laser) into
+/// the downstream stages, with the same flow control as the live NC, so nothing is dropped.
+#pragma once
+
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <scanhead/ChunkAck.h>
+#include <scanhead/NcLaser.h>
+#include <scanhead/NcSetpoint.h>
+#include <scanhead/ScanJob.h>
+
+#include <memory>
+
+#include "ros_chunk_outlet.hpp"
+
+namespace scanhead
+{
+class BagSourceNode
+{
+public:
+  /// Parameters: ~bag (path, required), ~window_chunks (default 16), ~setpoint_subscribers (2),
+  /// ~laser_subscribers (1).
+  BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  bool failed() const { return false; }
+
+private:
+  void onAck(const ChunkAck& msg);
+  void onTimer(const ros::TimerEvent&);
+  /// \brief Publishes recorded chunks while the in-flight window allows.
+  void pump();
+
+  rosbag::Bag bag_;
+  std::unique_ptr<rosbag::View> view_;
+  rosbag::View::iterator next_;
+  ros::Publisher job_pub_;
+  ChunkOutlet<NcSetpoint> setpoint_out_;
+  ChunkOutlet<NcLaser> laser_out_;
+  ros::Subscriber ack_sub_;
+  ros::Timer timer_;
+  std::uint64_t window_samples_ = 16000;
+  std::uint32_t job_id_ = 0;
+  std::uint64_t published_ = 0;
+  std::uint64_t acked_ = 0;
+};
+}  // namespace scanhead

@@ -1,0 +1,224 @@
+#include "energy_accumulator_ros.hpp"
+
+#include <nav_msgs/OccupancyGrid.h>
+#include <scanhead/ChunkAck.h>
+#include <scanhead/JobMetrics.h>
+#include <sensor_msgs/Image.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "ros_config.hpp"
+#include "ros_conversions.hpp"
+#include "scanhead/core/colour_map.hpp"
+#include "scanhead/core/metrics_report.hpp"
+#include "scanhead/core/results_writer.hpp"
+
+namespace scanhead
+{
+namespace
+{
+constexpr const char* kPlaneFrame = "work_plane_defect";
+constexpr std::size_t kMaxWaitingChunks = 4096;
+
+sensor_msgs::Image energyImage(const EnergyMap& map)
+{
+  const RgbImage rgb = renderEnergyMap(map);
+  sensor_msgs::Image image;
+  image.header.frame_id = kPlaneFrame;
+  image.width = rgb.width;
+  image.height = rgb.height;
+  image.encoding = "rgb8";
+  image.step = 3 * rgb.width;
+  image.data = rgb.pixels;
+  return image;
+}
+
+/// The map downsampled to at most 1000 cells a side, 0..100 of the peak, for rviz's Map display.
+nav_msgs::OccupancyGrid energyGrid(const EnergyMap& map)
+{
+  const int factor = std::max(1, (std::max(map.width(), map.height()) + 999) / 1000);
+  nav_msgs::OccupancyGrid grid;
+  grid.header.frame_id = kPlaneFrame;
+  grid.info.resolution = static_cast<float>(map.pixel() * factor);
+  grid.info.width = (map.width() + factor - 1) / factor;
+  grid.info.height = (map.height() + factor - 1) / factor;
+  grid.info.origin.position.x = map.origin().x();
+  grid.info.origin.position.y = map.origin().y();
+  grid.info.origin.orientation.w = 1.0;
+  const double peak = std::max(map.peak(), 1e-300);
+  grid.data.assign(static_cast<std::size_t>(grid.info.width) * grid.info.height, 0);
+  for (int r = 0; r < map.height(); ++r)
+    for (int c = 0; c < map.width(); ++c)
+    {
+      auto& cell = grid.data[static_cast<std::size_t>(r / factor) * grid.info.width + c / factor];
+      cell = std::max<std::int8_t>(cell, static_cast<std::int8_t>(100.0 * map.at(c, r) / peak));
+    }
+  return grid;
+}
+
+visualization_msgs::Marker lineMarker(const std::string& ns, int id, float r, float g, float b, double width)
+{
+  visualization_msgs::Marker m;
+  m.header.frame_id = kPlaneFrame;
+  m.ns = ns;
+  m.id = id;
+  m.type = visualization_msgs::Marker::LINE_STRIP;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = width;
+  m.color.r = r;
+  m.color.g = g;
+  m.color.b = b;
+  m.color.a = 1.0;
+  return m;
+}
+
+geometry_msgs::Point point(const Eigen::Vector2d& p, double z)
+{
+  geometry_msgs::Point q;
+  q.x = p.x();
+  q.y = p.y();
+  q.z = z;
+  return q;
+}
+
+/// Commanded path (marks green, jumps grey) and the actual spot path (red), 1 µm above the plane.
+visualization_msgs::MarkerArray pathMarkers(const Job& job, const TraceRecorder& trace)
+{
+  visualization_msgs::MarkerArray markers;
+  int id = 0;
+  for (const Polyline& line : job.polylines)
+  {
+    const bool mark = line.type == PolylineType::Mark;
+    auto m = lineMarker("commanded", id++, mark ? 0.1f : 0.6f, mark ? 0.8f : 0.6f, mark ? 0.2f : 0.6f, 10e-6);
+    for (const Eigen::Vector2d& p : line.points)
+      m.points.push_back(point(p, 1e-6));
+    markers.markers.push_back(m);
+  }
+  auto actual = lineMarker("actual", 0, 0.9f, 0.1f, 0.1f, 5e-6);
+  for (const TraceRow& row : trace.rows())
+    actual.points.push_back(point(row.spot.actual, 2e-6));
+  markers.markers.push_back(actual);
+  return markers;
+}
+}  // namespace
+
+EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
+  : config_(chainConfigFromParams(nh)), nh_(nh)
+{
+  std::string base_dir;
+  private_nh.param("out", out_, std::string());
+  private_nh.param("base_dir", base_dir, std::string());
+  private_nh.param("exit_when_done", exit_when_done_, false);
+  private_nh.param("shutdown_delay_s", shutdown_delay_s_, 0.0);
+  if (!out_.empty() && out_.front() != '/' && !base_dir.empty())
+    out_ = base_dir + "/" + out_;
+  ack_pub_ = nh.advertise<ChunkAck>("energy/ack", 100);
+  metrics_pub_ = nh.advertise<JobMetrics>("energy/metrics", 1, true);
+  image_pub_ = nh.advertise<sensor_msgs::Image>("energy/map", 1, true);
+  grid_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("energy/map_grid", 1, true);
+  markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("energy/path_markers", 1, true);
+  job_sub_ = nh.subscribe("cam/job", 10, &EnergyAccumulatorNode::onJob, this);
+  spot_sub_ = nh.subscribe("optics/spot", 0, &EnergyAccumulatorNode::onSpot, this, ros::TransportHints().tcpNoDelay());
+}
+
+void EnergyAccumulatorNode::onJob(const ScanJob& msg)
+{
+  jobs_[msg.job_id] = fromMsg(msg);
+  while (jobs_.size() > 8)
+    jobs_.erase(jobs_.begin());
+  std::deque<SpotStream::ConstPtr> waiting;
+  waiting.swap(waiting_);
+  for (const auto& chunk : waiting)
+    onSpot(chunk);
+}
+
+void EnergyAccumulatorNode::onSpot(const SpotStream::ConstPtr& msg)
+{
+  if (jobs_.count(msg->chunk.job_id) == 0)
+  {
+    waiting_.push_back(msg);  // the latched job has not arrived yet
+    if (waiting_.size() > kMaxWaitingChunks)
+    {
+      ROS_ERROR("energy: no cam/job for job %u: chunk at sample %llu dropped", waiting_.front()->chunk.job_id,
+                static_cast<unsigned long long>(waiting_.front()->chunk.first_index));
+      waiting_.pop_front();
+    }
+    return;
+  }
+  try
+  {
+    process(*msg);
+  }
+  catch (const std::exception& e)
+  {
+    ROS_ERROR("energy: job %u chunk at sample %llu: %s", msg->chunk.job_id,
+              static_cast<unsigned long long>(msg->chunk.first_index), e.what());
+  }
+}
+
+void EnergyAccumulatorNode::process(const SpotStream& msg)
+{
+  if (msg.chunk.job_id != job_id_ || !stage_)
+  {
+    if (stage_)
+      ROS_WARN("energy: job %u interrupted by job %u after %llu samples", job_id_, msg.chunk.job_id,
+               static_cast<unsigned long long>(next_index_));
+    job_id_ = msg.chunk.job_id;
+    total_samples_ = msg.chunk.total_samples;
+    stage_ = std::make_unique<EnergyStage>(config_, jobs_.at(job_id_), total_samples_);
+    next_index_ = 0;
+  }
+  const SpotChunk chunk = fromMsg(msg);
+  stage_->process(chunk);
+  next_index_ = std::max(next_index_, chunk.endIndex());
+  ChunkAck ack;
+  ack.job_id = job_id_;
+  ack.next_index = next_index_;
+  ack_pub_.publish(ack);
+  if (next_index_ >= total_samples_)
+    finishJob();
+}
+
+void EnergyAccumulatorNode::finishJob()
+{
+  const RunMetrics metrics = stage_->finish();
+  ROS_INFO_STREAM("energy: job " << job_id_ << " done\n" << metricsTable(metrics));
+  publishResults(metrics);
+  if (!out_.empty())
+  {
+    try
+    {
+      writeResultsFolder(out_, metrics, *stage_, config_, jobs_.at(job_id_));
+      ROS_INFO("energy: results written to %s/", out_.c_str());
+    }
+    catch (const std::exception& e)
+    {
+      ROS_ERROR("energy: cannot write the results folder: %s", e.what());
+      failed_ = true;
+    }
+  }
+  stage_.reset();
+  if (exit_when_done_)  // after a delay that lets a recorder write the last chunks
+    shutdown_timer_ = nh_.createWallTimer(ros::WallDuration(std::max(shutdown_delay_s_, 1e-3)),
+                                          [](const ros::WallTimerEvent&) { ros::shutdown(); }, true);
+}
+
+void EnergyAccumulatorNode::publishResults(const RunMetrics& metrics)
+{
+  JobMetrics msg;
+  msg.header.stamp = ros::Time::now();
+  msg.job_id = job_id_;
+  msg.job_name = metrics.job_name;
+  msg.samples = metrics.samples;
+  msg.dropped_samples = metrics.dropped_samples;
+  msg.duration_s = metrics.duration_s;
+  msg.laser_on_time_s = metrics.laser_on_time_s;
+  msg.commanded_energy_j = metrics.commanded_energy_j;
+  msg.deposited_energy_j = metrics.deposited_energy_j;
+  msg.metrics_yaml = metricsToYaml(metrics);
+  metrics_pub_.publish(msg);
+  image_pub_.publish(energyImage(stage_->map()));
+  grid_pub_.publish(energyGrid(stage_->map()));
+  markers_pub_.publish(pathMarkers(jobs_.at(job_id_), stage_->trace()));
+}
+}  // namespace scanhead

@@ -1,0 +1,51 @@
+/// \file energy_accumulator_ros.hpp
+/// \brief The energy node: optics/spot in; energy/ack (flow control), energy/metrics,
+/// energy/map (image), energy/map_grid (on the work plane in rviz), energy/path_markers out;
+/// writes the results folder when ~out is set.
+#pragma once
+
+#include <ros/ros.h>
+#include <scanhead/ScanJob.h>
+#include <scanhead/SpotStream.h>
+
+#include <deque>
+#include <map>
+#include <memory>
+
+#include "scanhead/core/chain_config.hpp"
+#include "scanhead/core/energy_stage.hpp"
+
+namespace scanhead
+{
+class EnergyAccumulatorNode
+{
+public:
+  /// Parameters: ~out (results folder, default none), ~base_dir (resolves a relative ~out),
+  /// ~exit_when_done (default false: shut down after the first job, for batch-like launches).
+  EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  bool failed() const { return failed_; }
+
+private:
+  void onJob(const ScanJob& msg);
+  void onSpot(const SpotStream::ConstPtr& msg);
+  void process(const SpotStream& msg);
+  void finishJob();
+  void publishResults(const RunMetrics& metrics);
+
+  ChainConfig config_;
+  std::map<std::uint32_t, Job> jobs_;  ///< recent jobs by id
+  std::deque<SpotStream::ConstPtr> waiting_;  ///< chunks that came before their job
+  std::unique_ptr<EnergyStage> stage_;
+  std::uint32_t job_id_ = 0;
+  std::uint64_t total_samples_ = 0;
+  std::uint64_t next_index_ = 0;
+  std::string out_;
+  bool exit_when_done_ = false;
+  double shutdown_delay_s_ = 0.0;
+  ros::NodeHandle nh_;
+  ros::WallTimer shutdown_timer_;
+  bool failed_ = false;
+  ros::Subscriber job_sub_, spot_sub_;
+  ros::Publisher ack_pub_, metrics_pub_, image_pub_, grid_pub_, markers_pub_;
+};
+}  // namespace scanhead

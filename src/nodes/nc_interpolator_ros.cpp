@@ -1,0 +1,75 @@
+#include "nc_interpolator_ros.hpp"
+
+#include "ros_config.hpp"
+#include "ros_conversions.hpp"
+#include "scanhead/core/job_io.hpp"
+
+namespace scanhead
+{
+NcInterpolatorNode::NcInterpolatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
+  : config_(chainConfigFromParams(nh))
+  , optics_(opticalModelFromParams(nh, config_.optics))
+  , setpoint_out_(nh, "nc/setpoint", expectedSubscribers(nh, private_nh, "setpoint_subscribers", 2))
+  , laser_out_(nh, "nc/laser", expectedSubscribers(nh, private_nh, "laser_subscribers", 1))
+  , debug_out_(nh, "nc/debug", 0)
+{
+  job_sub_ = nh.subscribe("cam/job", 10, &NcInterpolatorNode::onJob, this);
+  ack_sub_ = nh.subscribe("energy/ack", 100, &NcInterpolatorNode::onAck, this);
+  timer_ = nh.createTimer(ros::Duration(0.01), &NcInterpolatorNode::onTimer, this);
+}
+
+void NcInterpolatorNode::onJob(const ScanJob& msg)
+{
+  try
+  {
+    const Job job = fromMsg(msg);
+    validateScanJob(job, config_.optics.field_half_width_m);
+    auto nc = std::make_unique<NcInterpolator>(config_.nc, *optics_);
+    nc->start(job);
+    nc_ = std::move(nc);
+    job_id_ = msg.job_id;
+    published_ = 0;
+    acked_ = 0;
+    ROS_INFO("nc: job %u '%s': %llu samples (%.3f ms)", job_id_, job.name.c_str(),
+             static_cast<unsigned long long>(nc_->totalSamples()), 1e3 * nc_->totalSamples() * config_.nc.period_s);
+    pump();
+  }
+  catch (const std::exception& e)
+  {
+    ROS_ERROR("nc: job %u '%s' rejected: %s", msg.job_id, msg.name.c_str(), e.what());
+  }
+}
+
+void NcInterpolatorNode::onAck(const ChunkAck& msg)
+{
+  if (msg.job_id == job_id_ && msg.next_index > acked_)
+  {
+    acked_ = msg.next_index;
+    pump();
+  }
+}
+
+void NcInterpolatorNode::onTimer(const ros::TimerEvent&)
+{
+  setpoint_out_.flush();
+  laser_out_.flush();
+}
+
+void NcInterpolatorNode::pump()
+{
+  if (!nc_)
+    return;
+  const std::uint64_t window = config_.stream.window_chunks * config_.stream.chunk_samples;
+  while (!nc_->done() && published_ < acked_ + window)
+  {
+    const NcOutput out = nc_->process(config_.stream.chunk_samples);
+    const ChunkHeader header =
+        makeChunkHeader(job_id_, out.setpoint.first_index, out.setpoint.period_s, nc_->totalSamples());
+    setpoint_out_.push(toMsg(out.setpoint, header));
+    laser_out_.push(toMsg(out.laser, header));
+    if (config_.nc.debug)
+      debug_out_.push(toMsg(out.debug, header));
+    published_ = out.setpoint.endIndex();
+  }
+}
+}  // namespace scanhead

@@ -1,0 +1,47 @@
+/// \file nc_interpolator_ros.hpp
+/// \brief The NC node: cam/job in; nc/setpoint, nc/laser (and nc/debug) chunks out, paced by
+/// the acknowledgements of the last stage (at most stream.window_chunks chunks in flight).
+#pragma once
+
+#include <ros/ros.h>
+#include <scanhead/ChunkAck.h>
+#include <scanhead/NcDebug.h>
+#include <scanhead/NcLaser.h>
+#include <scanhead/NcSetpoint.h>
+#include <scanhead/ScanJob.h>
+
+#include <memory>
+
+#include "ros_chunk_outlet.hpp"
+#include "scanhead/core/chain_config.hpp"
+#include "scanhead/core/nc_interpolator.hpp"
+
+namespace scanhead
+{
+class NcInterpolatorNode
+{
+public:
+  /// Parameters: ~setpoint_subscribers (default 2: servo and optics), ~laser_subscribers (1).
+  NcInterpolatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  bool failed() const { return false; }
+
+private:
+  void onJob(const ScanJob& msg);
+  void onAck(const ChunkAck& msg);
+  void onTimer(const ros::TimerEvent&);
+  /// \brief Publishes chunks while the in-flight window allows.
+  void pump();
+
+  ChainConfig config_;
+  std::unique_ptr<OpticalModel> optics_;
+  std::unique_ptr<NcInterpolator> nc_;
+  ChunkOutlet<NcSetpoint> setpoint_out_;
+  ChunkOutlet<NcLaser> laser_out_;
+  ChunkOutlet<NcDebug> debug_out_;
+  ros::Subscriber job_sub_, ack_sub_;
+  ros::Timer timer_;
+  std::uint32_t job_id_ = 0;
+  std::uint64_t published_ = 0;  ///< samples published for the current job
+  std::uint64_t acked_ = 0;      ///< samples the last stage has consumed
+};
+}  // namespace scanhead

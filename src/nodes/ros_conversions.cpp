@@ -1,0 +1,216 @@
+#include "ros_conversions.hpp"
+
+#include <stdexcept>
+
+namespace scanhead
+{
+const char* const kJointNames[2] = {"galvo_x", "galvo_y"};
+
+namespace
+{
+template <class Chunk>
+Chunk emptyChunk(const ChunkHeader& header, std::size_t size)
+{
+  Chunk chunk;
+  chunk.first_index = header.first_index;
+  chunk.period_s = header.period;
+  chunk.samples.resize(size);
+  return chunk;
+}
+
+void checkSize(std::size_t actual, std::size_t expected, const char* what)
+{
+  if (actual != expected)
+    throw std::invalid_argument(std::string(what) + ": array of " + std::to_string(actual) + " values, expected " +
+                                std::to_string(expected));
+}
+
+void put2(std::vector<double>& out, const Eigen::Vector2d& v)
+{
+  out.push_back(v.x());
+  out.push_back(v.y());
+}
+}  // namespace
+
+ChunkHeader makeChunkHeader(std::uint32_t job_id, std::uint64_t first_index, double period_s,
+                            std::uint64_t total_samples)
+{
+  ChunkHeader header;
+  header.header.stamp = ros::Time(static_cast<double>(first_index) * period_s);
+  header.job_id = job_id;
+  header.first_index = first_index;
+  header.period = period_s;
+  header.total_samples = total_samples;
+  return header;
+}
+
+Job fromMsg(const ScanJob& msg)
+{
+  Job job;
+  job.name = msg.name;
+  job.source = msg.source;
+  for (const ScanPolyline& p : msg.polylines)
+  {
+    checkSize(p.y.size(), p.x.size(), "ScanPolyline.y");
+    Polyline line;
+    line.type = p.type == ScanPolyline::JUMP ? PolylineType::Jump : PolylineType::Mark;
+    line.speed_mps = p.speed;
+    line.power_w = p.power;
+    for (std::size_t k = 0; k < p.x.size(); ++k)
+      line.points.emplace_back(p.x[k], p.y[k]);
+    job.polylines.push_back(std::move(line));
+  }
+  return job;
+}
+
+ScanJob toMsg(const Job& job, std::uint32_t job_id)
+{
+  ScanJob msg;
+  msg.job_id = job_id;
+  msg.name = job.name;
+  msg.source = job.source;
+  for (const Polyline& line : job.polylines)
+  {
+    ScanPolyline p;
+    p.type = line.type == PolylineType::Jump ? ScanPolyline::JUMP : ScanPolyline::MARK;
+    p.speed = line.speed_mps;
+    p.power = line.power_w;
+    for (const Eigen::Vector2d& q : line.points)
+    {
+      p.x.push_back(q.x());
+      p.y.push_back(q.y());
+    }
+    msg.polylines.push_back(std::move(p));
+  }
+  return msg;
+}
+
+SetpointChunk fromMsg(const NcSetpoint& msg)
+{
+  auto chunk = emptyChunk<SetpointChunk>(msg.chunk, msg.trajectory.points.size());
+  for (std::size_t k = 0; k < chunk.samples.size(); ++k)
+  {
+    const auto& p = msg.trajectory.points[k];
+    checkSize(p.positions.size(), 2, "NcSetpoint positions");
+    checkSize(p.velocities.size(), 2, "NcSetpoint velocities");
+    checkSize(p.accelerations.size(), 2, "NcSetpoint accelerations");
+    chunk.samples[k].position = Eigen::Vector2d(p.positions[0], p.positions[1]);
+    chunk.samples[k].velocity = Eigen::Vector2d(p.velocities[0], p.velocities[1]);
+    chunk.samples[k].acceleration = Eigen::Vector2d(p.accelerations[0], p.accelerations[1]);
+  }
+  return chunk;
+}
+
+NcSetpoint toMsg(const SetpointChunk& chunk, const ChunkHeader& header)
+{
+  NcSetpoint msg;
+  msg.chunk = header;
+  msg.trajectory.header.stamp = header.header.stamp;
+  msg.trajectory.joint_names = {kJointNames[0], kJointNames[1]};
+  msg.trajectory.points.resize(chunk.samples.size());
+  for (std::size_t k = 0; k < chunk.samples.size(); ++k)
+  {
+    const SetpointSample& s = chunk.samples[k];
+    auto& p = msg.trajectory.points[k];
+    p.positions = {s.position.x(), s.position.y()};
+    p.velocities = {s.velocity.x(), s.velocity.y()};
+    p.accelerations = {s.acceleration.x(), s.acceleration.y()};
+    p.time_from_start = ros::Duration(static_cast<double>(k) * chunk.period_s);
+  }
+  return msg;
+}
+
+LaserChunk fromMsg(const NcLaser& msg)
+{
+  auto chunk = emptyChunk<LaserChunk>(msg.chunk, msg.power.size());
+  for (std::size_t k = 0; k < chunk.samples.size(); ++k)
+    chunk.samples[k].power_w = msg.power[k];
+  return chunk;
+}
+
+NcLaser toMsg(const LaserChunk& chunk, const ChunkHeader& header)
+{
+  NcLaser msg;
+  msg.chunk = header;
+  msg.power.reserve(chunk.samples.size());
+  for (const LaserSample& s : chunk.samples)
+    msg.power.push_back(s.power_w);
+  return msg;
+}
+
+NcDebug toMsg(const NcDebugChunk& chunk, const ChunkHeader& header)
+{
+  NcDebug msg;
+  msg.chunk = header;
+  for (const NcDebugSample& s : chunk.samples)
+  {
+    put2(msg.x_inter, s.x_inter);
+    put2(msg.q_inter, s.q_inter);
+    put2(msg.q_filt1, s.q_filt1);
+  }
+  return msg;
+}
+
+JointChunk fromMsg(const JointStreamChunk& msg)
+{
+  checkSize(msg.joint_names.size(), 2, "JointStreamChunk joint_names");
+  const std::size_t n = msg.position.size() / 2;
+  checkSize(msg.position.size(), 2 * n, "JointStreamChunk position");
+  checkSize(msg.velocity.size(), 2 * n, "JointStreamChunk velocity");
+  checkSize(msg.effort.size(), 2 * n, "JointStreamChunk effort");
+  auto chunk = emptyChunk<JointChunk>(msg.chunk, n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    chunk.samples[k].position = Eigen::Vector2d(msg.position[2 * k], msg.position[2 * k + 1]);
+    chunk.samples[k].velocity = Eigen::Vector2d(msg.velocity[2 * k], msg.velocity[2 * k + 1]);
+    chunk.samples[k].current = Eigen::Vector2d(msg.effort[2 * k], msg.effort[2 * k + 1]);
+  }
+  return chunk;
+}
+
+JointStreamChunk toMsg(const JointChunk& chunk, const ChunkHeader& header)
+{
+  JointStreamChunk msg;
+  msg.chunk = header;
+  msg.joint_names = {kJointNames[0], kJointNames[1]};
+  for (const JointSample& s : chunk.samples)
+  {
+    put2(msg.position, s.position);
+    put2(msg.velocity, s.velocity);
+    put2(msg.effort, s.current);
+  }
+  return msg;
+}
+
+SpotChunk fromMsg(const SpotStream& msg)
+{
+  const std::size_t n = msg.power.size();
+  checkSize(msg.actual.size(), 2 * n, "SpotStream actual");
+  checkSize(msg.setpoint.size(), 2 * n, "SpotStream setpoint");
+  checkSize(msg.direction.size(), 3 * n, "SpotStream direction");
+  auto chunk = emptyChunk<SpotChunk>(msg.chunk, n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    SpotSample& s = chunk.samples[k];
+    s.actual = Eigen::Vector2d(msg.actual[2 * k], msg.actual[2 * k + 1]);
+    s.setpoint = Eigen::Vector2d(msg.setpoint[2 * k], msg.setpoint[2 * k + 1]);
+    s.direction = Eigen::Vector3d(msg.direction[3 * k], msg.direction[3 * k + 1], msg.direction[3 * k + 2]);
+    s.power_w = msg.power[k];
+  }
+  return chunk;
+}
+
+SpotStream toMsg(const SpotChunk& chunk, const ChunkHeader& header)
+{
+  SpotStream msg;
+  msg.chunk = header;
+  for (const SpotSample& s : chunk.samples)
+  {
+    put2(msg.actual, s.actual);
+    put2(msg.setpoint, s.setpoint);
+    msg.direction.insert(msg.direction.end(), {s.direction.x(), s.direction.y(), s.direction.z()});
+    msg.power.push_back(s.power_w);
+  }
+  return msg;
+}
+}  // namespace scanhead

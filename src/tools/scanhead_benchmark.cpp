@@ -1,0 +1,150 @@
+// scanhead_benchmark: throughput of each stage and real-time factor of the in-process chain.
+// Not a test: run it on a quiet machine. Times are wall-clock (steady_clock) per stage call.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "scanhead/core/batch_chain.hpp"
+#include "scanhead/core/builtin_jobs.hpp"
+#include "scanhead/core/config_io.hpp"
+#include "scanhead/core/job_io.hpp"
+
+using namespace scanhead;
+using Clock = std::chrono::steady_clock;
+
+namespace
+{
+const char* kUsage =
+    "usage: scanhead_benchmark [--job SPEC] [--repeat N] [--config FILE] [--set key=value ...]\n"
+    "  Runs the job N times (default 20) through NC, servo, optics and energy stage by stage\n"
+    "  and prints samples per second per stage and the real-time factor (job time / wall time).\n"
+    "  Default jobs: corner (the NC paper's case) and hatch (5 mm square, 100 um spacing).\n";
+
+double seconds(Clock::duration d)
+{
+  return std::chrono::duration<double>(d).count();
+}
+
+struct Stats
+{
+  std::vector<double> values;
+  double mean() const
+  {
+    double s = 0;
+    for (double v : values)
+      s += v;
+    return s / values.size();
+  }
+  double min() const { return *std::min_element(values.begin(), values.end()); }
+  double max() const { return *std::max_element(values.begin(), values.end()); }
+};
+
+/// One run, timing each stage's calls separately; returns seconds per stage + setup + total.
+std::vector<double> timedRun(const ChainConfig& config, const OpticalModel& optics, const Job& job, std::uint64_t& samples)
+{
+  const auto t_setup = Clock::now();
+  NcInterpolator nc(config.nc, optics);
+  GalvoServo servo(config.servo, config.nc.period_s);
+  OpticalChainStage stage(optics);
+  nc.start(job);
+  EnergyStage energy(config, job, nc.totalSamples());
+  std::vector<double> t(6, 0.0);  // nc, servo, optics, energy, setup, total
+  t[4] = seconds(Clock::now() - t_setup);
+  while (!nc.done())
+  {
+    auto a = Clock::now();
+    const NcOutput out = nc.process(config.stream.chunk_samples);
+    auto b = Clock::now();
+    if (out.setpoint.first_index == 0)
+      servo.reset(out.setpoint.samples.front().position);
+    const JointChunk joints = servo.process(out.setpoint);
+    auto c = Clock::now();
+    const SpotChunk spots = stage.process(out.setpoint, joints, out.laser);
+    auto d = Clock::now();
+    energy.process(spots);
+    auto e = Clock::now();
+    t[0] += seconds(b - a);
+    t[1] += seconds(c - b);
+    t[2] += seconds(d - c);
+    t[3] += seconds(e - d);
+  }
+  auto f = Clock::now();
+  energy.finish();
+  t[3] += seconds(Clock::now() - f);
+  t[5] = t[0] + t[1] + t[2] + t[3] + t[4];
+  samples = nc.totalSamples();
+  return t;
+}
+
+void benchmark(const ChainConfig& config, const OpticalModel& optics, const std::string& spec, int repeat)
+{
+  const Job job = resolveJob(spec);
+  validateScanJob(job, config.optics.field_half_width_m);
+  std::vector<Stats> stats(6);
+  std::uint64_t samples = 0;
+  timedRun(config, optics, job, samples);  // warm-up: page faults, caches
+  for (int r = 0; r < repeat; ++r)
+  {
+    const auto t = timedRun(config, optics, job, samples);
+    for (std::size_t i = 0; i < t.size(); ++i)
+      stats[i].values.push_back(t[i]);
+  }
+  const double job_time = samples * config.nc.period_s;
+  std::printf("\njob %s: %llu samples = %.2f ms of machine time, %d runs, chunk %zu samples\n", spec.c_str(),
+              static_cast<unsigned long long>(samples), job_time * 1e3, repeat, config.stream.chunk_samples);
+  std::printf("%-22s %14s %14s %14s %12s\n", "stage", "Msamples/s", "worst Ms/s", "best Ms/s", "share");
+  const char* names[] = {"nc_interpolator", "galvo_servo", "optical_chain", "energy_accumulator", "setup (alloc, map)"};
+  for (int i = 0; i < 5; ++i)
+    std::printf("%-22s %14.2f %14.2f %14.2f %11.1f%%\n", names[i], samples / stats[i].mean() * 1e-6,
+                samples / stats[i].max() * 1e-6, samples / stats[i].min() * 1e-6,
+                100 * stats[i].mean() / stats[5].mean());
+  std::printf("%-22s %14.2f   real-time factor: mean %.1fx, worst %.1fx, best %.1fx\n", "whole chain",
+              samples / stats[5].mean() * 1e-6, job_time / stats[5].mean(), job_time / stats[5].max(),
+              job_time / stats[5].min());
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  try
+  {
+    std::vector<std::string> jobs, overrides;
+    std::string config_path = "config/scanhead.yaml";
+    int repeat = 20;
+    for (int i = 1; i < argc; ++i)
+    {
+      const std::string arg = argv[i];
+      if ((arg == "--job" || arg == "--repeat" || arg == "--config" || arg == "--set") && i + 1 >= argc)
+        throw std::runtime_error(arg + " needs a value\n" + kUsage);
+      if (arg == "--job")
+        jobs.push_back(argv[++i]);
+      else if (arg == "--repeat")
+        repeat = std::max(1, std::atoi(argv[++i]));
+      else if (arg == "--config")
+        config_path = argv[++i];
+      else if (arg == "--set")
+        overrides.push_back(argv[++i]);
+      else
+      {
+        std::cout << kUsage;
+        return arg == "--help" || arg == "-h" ? 0 : 1;
+      }
+    }
+    if (jobs.empty())
+      jobs = {"corner", "hatch"};
+    const ChainConfig config = loadChainConfig(resolvePackagePath(config_path), overrides);
+    const OpticalModel optics = loadOpticalModel(config.optics);
+    for (const auto& job : jobs)
+      benchmark(config, optics, job, repeat);
+    return 0;
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "scanhead_benchmark: error: " << e.what() << "\n";
+    return 1;
+  }
+}

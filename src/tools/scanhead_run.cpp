@@ -1,0 +1,98 @@
+// scanhead_run: the whole virtual machine in one process (batch runner).
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "scanhead/core/batch_chain.hpp"
+#include "scanhead/core/builtin_jobs.hpp"
+#include "scanhead/core/config_io.hpp"
+#include "scanhead/core/errors.hpp"
+#include "scanhead/core/job_io.hpp"
+#include "scanhead/core/metrics_report.hpp"
+#include "scanhead/core/results_writer.hpp"
+
+namespace
+{
+const char* kUsage =
+    "usage: scanhead_run [--job FILE|BUILTIN] [--out DIR] [--config FILE] [--set section.key=value ...] [--quiet]\n"
+    "  --job     a job YAML file, or a built-in job (default: corner):\n"
+    "              corner[:speed=2,angle=53.13,leg=0.004,power=200]\n"
+    "  --out     results folder to write (metrics.yaml, energy map, plots); default: results/<job>\n"
+    "  --config  configuration YAML (default: the package's config/scanhead.yaml)\n"
+    "  --set     override one setting, e.g. --set nc.fir_t1_s=300e-6 (repeatable)\n";
+
+struct Arguments
+{
+  std::string job = "corner";
+  std::string out;
+  std::string config = "config/scanhead.yaml";
+  std::vector<std::string> overrides;
+  bool quiet = false;
+};
+
+Arguments parse(int argc, char** argv)
+{
+  Arguments a;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string arg = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc)
+        throw scanhead::ConfigError(arg + " needs a value\n" + kUsage);
+      return argv[++i];
+    };
+    if (arg == "--job")
+      a.job = value();
+    else if (arg == "--out")
+      a.out = value();
+    else if (arg == "--config")
+      a.config = value();
+    else if (arg == "--set")
+      a.overrides.push_back(value());
+    else if (arg == "--quiet")
+      a.quiet = true;
+    else if (arg == "--help" || arg == "-h")
+    {
+      std::cout << kUsage;
+      std::exit(0);
+    }
+    else
+      throw scanhead::ConfigError("unknown argument '" + arg + "'\n" + kUsage);
+  }
+  return a;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  using namespace scanhead;
+  try
+  {
+    const Arguments args = parse(argc, argv);
+    const ChainConfig config = loadChainConfig(resolvePackagePath(args.config), args.overrides);
+    const OpticalModel optics = loadOpticalModel(config.optics);
+    ScanJob job = resolveJob(args.job);
+    validateScanJob(job, config.optics.field_half_width_m);
+    const std::string out = args.out.empty() ? "results/" + job.name : args.out;
+
+    BatchChain chain(config, optics);
+    int last_percent = -1;
+    const RunMetrics metrics = chain.run(job, [&](std::uint64_t done, std::uint64_t total) {
+      const int percent = static_cast<int>(100 * done / total);
+      if (!args.quiet && total > 200000 && percent / 10 != last_percent / 10)
+        std::fprintf(stderr, "\r%3d %% of %llu samples", percent, static_cast<unsigned long long>(total));
+      last_percent = percent;
+    });
+    writeResultsFolder(out, metrics, chain.energy(), config, job);
+    if (!args.quiet)
+      std::cout << metricsTable(metrics) << "results written to " << out << "/\n";
+    return 0;
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "scanhead_run: error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,106 @@
+// Job files: parsing, validation errors that name the file, line and field, round trip.
+#include <gtest/gtest.h>
+
+#include "scanhead/core/builtin_jobs.hpp"
+#include "scanhead/core/errors.hpp"
+#include "scanhead/core/job_io.hpp"
+
+using namespace scanhead;
+
+namespace
+{
+const std::string kData = std::string(SCANHEAD_SOURCE_DIR) + "/test/data/";
+
+/// The InputError message of \p f, or "" if it did not throw.
+template <class F>
+std::string errorOf(F&& f)
+{
+  try
+  {
+    f();
+  }
+  catch (const InputError& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+
+std::string job(const std::string& polyline_body)
+{
+  return "name: t\npolylines:\n  - " + polyline_body + "\n";
+}
+}  // namespace
+
+TEST(JobIo, ReadsTheFullFixture)
+{
+  const Job j = loadScanJobFile(kData + "job_full.yaml");
+  ASSERT_EQ(j.polylines.size(), 4u);
+  EXPECT_EQ(j.name, "full");
+  EXPECT_EQ(j.polylines[1].type, PolylineType::Jump);
+  EXPECT_DOUBLE_EQ(j.polylines[0].points[2].y(), 0.0032);
+  EXPECT_NO_THROW(validateScanJob(j, 0.175));
+}
+
+TEST(JobIo, RoundTripIsExact)
+{
+  const Job a = builtinJob("corner:speed=1.7,angle=108.43");
+  const Job b = parseScanJobYaml(scanJobToYaml(a), "round trip");
+  ASSERT_EQ(a.polylines.size(), b.polylines.size());
+  for (std::size_t i = 0; i < a.polylines.size(); ++i)
+  {
+    EXPECT_EQ(a.polylines[i].speed_mps, b.polylines[i].speed_mps);
+    EXPECT_EQ(a.polylines[i].power_w, b.polylines[i].power_w);
+    for (std::size_t k = 0; k < a.polylines[i].points.size(); ++k)
+      EXPECT_EQ(a.polylines[i].points[k], b.polylines[i].points[k]);  // %.17g: bit-exact
+  }
+}
+
+TEST(JobIo, ErrorsNameFileLineAndField)
+{
+  EXPECT_NE(errorOf([] { loadScanJobFile(kData + "job_invalid_unknown_key.yaml"); })
+                .find("job_invalid_unknown_key.yaml:6: polylines[0]: unknown key 'colour'"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { loadScanJobFile(kData + "job_invalid_malformed.yaml"); }).find("malformed YAML"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { loadScanJobFile(kData + "no_such_file.yaml"); }).find("cannot open"), std::string::npos);
+  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, speed: .nan, power: 1, points: [[0,0],[1e-3,0]]}"), "f.yaml"); })
+                .find("f.yaml:3: polylines[0].speed: '.nan' is not a number"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, speed: 1, power: 1, points: [[0,0]]}"), "f.yaml"); })
+                .find("polylines[0].points: needs at least 2 points (got 1)"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: burn, speed: 1, power: 1, points: [[0,0],[1,0]]}"), "f.yaml"); })
+                .find("polylines[0].type: 'burn' is not mark or jump"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, speed: 1, power: 1, points: [[0,0],[1,x]]}"), "f.yaml"); })
+                .find("polylines[0].points[1].y: 'x' is not a number"),
+            std::string::npos);
+}
+
+TEST(JobIo, ValidationNamesThePolylineAndValue)
+{
+  auto check = [](const std::string& body, const std::string& expected) {
+    const Job j = parseScanJobYaml(job(body), "v.yaml");
+    const std::string message = errorOf([&] { validateScanJob(j, 0.175); });
+    EXPECT_NE(message.find(expected), std::string::npos) << message;
+  };
+  check("{type: mark, speed: 0, power: 1, points: [[0,0],[1e-3,0]]}", "polylines[0].speed must be > 0 m/s (got 0)");
+  check("{type: mark, speed: -2, power: 1, points: [[0,0],[1e-3,0]]}", "speed must be > 0 m/s (got -2)");
+  check("{type: mark, speed: 1, power: -5, points: [[0,0],[1e-3,0]]}", "power must be >= 0 W (got -5)");
+  check("{type: mark, speed: 1, power: 1, points: [[0,0],[0.2,0]]}",
+        "polylines[0].points[1] = (0.20000000000000001, 0) m lies outside the field");
+}
+
+TEST(BuiltinJobs, CornerGeometry)
+{
+  const Job j = builtinJob("corner:speed=2,angle=53.13");
+  ASSERT_EQ(j.polylines.size(), 1u);
+  const auto& p = j.polylines[0].points;
+  ASSERT_EQ(p.size(), 3u);
+  // The example: (-0.004, 0) → (0, 0) → (0.0024, 0.0032) for γ = 53.13°.
+  EXPECT_NEAR(p[2].x(), 0.0024, 1e-7);
+  EXPECT_NEAR(p[2].y(), 0.0032, 1e-7);
+  EXPECT_NE(errorOf([] { builtinJob("corner:sped=2"); }).find("unknown key 'sped'"), std::string::npos);
+  EXPECT_NE(errorOf([] { resolveJob("square"); }).find("square"), std::string::npos);
+}
