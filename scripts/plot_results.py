@@ -66,7 +66,7 @@ def plot_energy(folder, job, energy):
     pixel = energy["pixel_m"]
     extent = [x0 * 1e3, (x0 + pixel * energy["width"]) * 1e3, y0 * 1e3, (y0 + pixel * energy["height"]) * 1e3]
     fig, ax = plt.subplots(figsize=(8, 6))
-    shown = ax.imshow(density, origin="lower", extent=extent, cmap="inferno")
+    shown = ax.imshow(density, origin="upper", extent=extent, cmap="inferno")  # row 0 = top (+y up)
     for line in job["polylines"]:
         pts = np.asarray(line["points"], dtype=float) * 1e3
         ax.plot(pts[:, 0], pts[:, 1], "--" if line["type"] == "jump" else "-", color="cyan", lw=0.6)

@@ -9,7 +9,7 @@ BatchChain::BatchChain(const ChainConfig& config, const OpticalModel& optics)
 {
 }
 
-RunMetrics BatchChain::run(const ScanJob& job, const ProgressCallback& progress)
+RunMetrics BatchChain::run(const Job& job, const ProgressCallback& progress)
 {
   nc_.start(job);
   energy_ = std::make_unique<EnergyStage>(config_, job, nc_.totalSamples());
@@ -30,7 +30,7 @@ std::string resolvePackagePath(const std::string& path)
 {
   if (path.empty() || path.front() == '/' || std::ifstream(path).good())
     return path;
-  for (const std::string root : {std::string(SCANHEAD_SHARE_DIR), std::string(SCANHEAD_SOURCE_DIR)})
+  for (const std::string& root : {std::string(SCANHEAD_SHARE_DIR), std::string(SCANHEAD_SOURCE_DIR)})
   {
     const std::string candidate = root + "/" + path;
     if (std::ifstream(candidate).good())

@@ -60,7 +60,7 @@ double take(Spec& spec, const std::string& key, double fallback)
 }
 }  // namespace
 
-ScanJob makeCornerJob(double speed_mps, double angle_deg, double leg_m, double power_w)
+Job makeCornerJob(double speed_mps, double angle_deg, double leg_m, double power_w)
 {
   const double gamma = angle_deg * M_PI / 180.0;
   Polyline line;
@@ -69,7 +69,7 @@ ScanJob makeCornerJob(double speed_mps, double angle_deg, double leg_m, double p
   line.power_w = power_w;
   line.points = {Eigen::Vector2d(-leg_m, 0.0), Eigen::Vector2d::Zero(),
                  Eigen::Vector2d(leg_m * std::cos(gamma), leg_m * std::sin(gamma))};
-  ScanJob job;
+  Job job;
   std::ostringstream name;
   name << "corner_" << angle_deg << "deg_" << speed_mps << "mps";
   job.name = name.str();
@@ -114,7 +114,7 @@ std::vector<std::string> builtinJobHelp()
           "hatch[:size=0.005,spacing=0.0001,speed=1,jump_speed=4.5,power=200]  meander hatch of a square"};
 }
 
-ScanJob builtinJob(const std::string& spec_text)
+Job builtinJob(const std::string& spec_text)
 {
   Spec spec = parseSpec(spec_text);
   if (spec.name == "hatch")
@@ -148,7 +148,7 @@ ScanJob builtinJob(const std::string& spec_text)
   return makeCornerJob(speed, angle, leg, power);
 }
 
-ScanJob resolveJob(const std::string& job_argument)
+Job resolveJob(const std::string& job_argument)
 {
   const std::string name = job_argument.substr(0, job_argument.find(':'));
   if (name == "corner" || name == "hatch")

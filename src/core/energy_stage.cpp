@@ -10,14 +10,14 @@ namespace
 {
 constexpr std::size_t kMaxTraceRows = 20000;  // plots need no more; bounds memory on long jobs
 
-EnergyAccumulator makeAccumulator(const ChainConfig& config, const ScanJob& job)
+EnergyAccumulator makeAccumulator(const ChainConfig& config, const Job& job)
 {
   Eigen::Vector2d lo, hi;
   jobMapBounds(job, config.energy.map_margin_m, lo, hi);
   return EnergyAccumulator(config.energy, lo, hi);
 }
 
-CornerTracker makeCornerTracker(const ChainConfig& config, const ScanJob& job)
+CornerTracker makeCornerTracker(const ChainConfig& config, const Job& job)
 {
   const double servo_delay = GalvoServo(config.servo, config.nc.period_s).lowFrequencyDelay().maxCoeff();
   return CornerTracker(findCorners(job, config.energy.corner_min_angle_deg * M_PI / 180.0,
@@ -26,7 +26,7 @@ CornerTracker makeCornerTracker(const ChainConfig& config, const ScanJob& job)
 }
 }  // namespace
 
-void jobMapBounds(const ScanJob& job, double margin_m, Eigen::Vector2d& min_corner, Eigen::Vector2d& max_corner)
+void jobMapBounds(const Job& job, double margin_m, Eigen::Vector2d& min_corner, Eigen::Vector2d& max_corner)
 {
   min_corner = Eigen::Vector2d::Constant(INFINITY);
   max_corner = Eigen::Vector2d::Constant(-INFINITY);
@@ -40,7 +40,7 @@ void jobMapBounds(const ScanJob& job, double margin_m, Eigen::Vector2d& min_corn
   max_corner.array() += margin_m;
 }
 
-EnergyStage::EnergyStage(const ChainConfig& config, const ScanJob& job, std::uint64_t total_samples)
+EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, std::uint64_t total_samples)
   : config_(config)
   , job_name_(job.name)
   , accumulator_(makeAccumulator(config, job))

@@ -109,7 +109,7 @@ std::string fieldOf(std::size_t polyline)
 }
 }  // namespace
 
-ScanJob parseScanJobYaml(const std::string& yaml_text, const std::string& source)
+Job parseScanJobYaml(const std::string& yaml_text, const std::string& source)
 {
   YAML::Node root;
   try
@@ -125,7 +125,7 @@ ScanJob parseScanJobYaml(const std::string& yaml_text, const std::string& source
   try
   {
     checkKeys(root, {"name", "polylines"}, source, "");
-    ScanJob job;
+    Job job;
     job.source = source;
     job.name = root["name"] ? root["name"].as<std::string>() : "job";
     const YAML::Node lines = root["polylines"];
@@ -147,7 +147,7 @@ ScanJob parseScanJobYaml(const std::string& yaml_text, const std::string& source
   }
 }
 
-ScanJob loadScanJobFile(const std::string& path)
+Job loadScanJobFile(const std::string& path)
 {
   std::ifstream in(path);
   if (!in)
@@ -157,7 +157,7 @@ ScanJob loadScanJobFile(const std::string& path)
   return parseScanJobYaml(text.str(), path);
 }
 
-void validateScanJob(const ScanJob& job, double field_half_width_m)
+void validateScanJob(const Job& job, double field_half_width_m)
 {
   if (job.polylines.empty())
     throw InputError(job.source + ": polylines: the job is empty");
@@ -184,7 +184,7 @@ void validateScanJob(const ScanJob& job, double field_half_width_m)
   }
 }
 
-std::string scanJobToYaml(const ScanJob& job)
+std::string scanJobToYaml(const Job& job)
 {
   std::ostringstream out;
   out << "name: \"" << job.name << "\"\npolylines:\n";

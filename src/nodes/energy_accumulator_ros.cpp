@@ -21,14 +21,14 @@ constexpr std::size_t kMaxWaitingChunks = 4096;
 
 sensor_msgs::Image energyImage(const EnergyMap& map)
 {
-  const RgbImage rgb = renderEnergyMap(map);
+  const RgbImage rgb = renderEnergyMap(map, 0.0, 2000);
   sensor_msgs::Image image;
   image.header.frame_id = kPlaneFrame;
   image.width = rgb.width;
   image.height = rgb.height;
   image.encoding = "rgb8";
   image.step = 3 * rgb.width;
-  image.data = rgb.pixels;
+  image.data = rgb.rgb;
   return image;
 }
 
@@ -188,7 +188,7 @@ void EnergyAccumulatorNode::finishJob()
   {
     try
     {
-      writeResultsFolder(out_, metrics, *stage_, config_, jobs_.at(job_id_));
+      writeResultsFolder(out_, metrics, *stage_, config_, jobs_.at(job_id_), plotFinisher());
       ROS_INFO("energy: results written to %s/", out_.c_str());
     }
     catch (const std::exception& e)

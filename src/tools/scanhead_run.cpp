@@ -73,7 +73,7 @@ int main(int argc, char** argv)
     const Arguments args = parse(argc, argv);
     const ChainConfig config = loadChainConfig(resolvePackagePath(args.config), args.overrides);
     const OpticalModel optics = loadOpticalModel(config.optics);
-    ScanJob job = resolveJob(args.job);
+    Job job = resolveJob(args.job);
     validateScanJob(job, config.optics.field_half_width_m);
     const std::string out = args.out.empty() ? "results/" + job.name : args.out;
 
@@ -85,7 +85,7 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "\r%3d %% of %llu samples", percent, static_cast<unsigned long long>(total));
       last_percent = percent;
     });
-    writeResultsFolder(out, metrics, chain.energy(), config, job);
+    writeResultsFolder(out, metrics, chain.energy(), config, job, plotFinisher());
     if (!args.quiet)
       std::cout << metricsTable(metrics) << "results written to " << out << "/\n";
     return 0;

@@ -24,7 +24,7 @@ public:
   BatchChain(const ChainConfig& config, const OpticalModel& optics);
 
   /// \brief Runs a validated job to the end. The energy stage stays available for the map and traces.
-  RunMetrics run(const ScanJob& job, const ProgressCallback& progress = {});
+  RunMetrics run(const Job& job, const ProgressCallback& progress = {});
 
   const EnergyStage& energy() const { return *energy_; }
   std::uint64_t totalSamples() const { return nc_.totalSamples(); }

@@ -11,20 +11,20 @@ namespace scanhead
 {
 /// \brief Two MARK segments of \p leg_m meeting at the origin: the first along +x, the second
 /// turned by the direction change \p angle_deg (γ; 0 = straight on), both at \p speed_mps.
-ScanJob makeCornerJob(double speed_mps, double angle_deg, double leg_m, double power_w);
+Job makeCornerJob(double speed_mps, double angle_deg, double leg_m, double power_w);
 
 /// \brief A meander hatch of a square of side \p size_m centred on the origin: MARK lines along x
 /// every \p spacing_m, joined by JUMPs.
-ScanJob makeHatchJob(double size_m, double spacing_m, double speed_mps, double jump_speed_mps, double power_w);
+Job makeHatchJob(double size_m, double spacing_m, double speed_mps, double jump_speed_mps, double power_w);
 
 /// \brief A built-in job by spec "name[:key=value,...]", e.g. "corner:speed=2,angle=108.43".
 /// Names: corner (default speed 2 m/s, angle 53.13°, leg 4 mm, power 200 W), hatch.
 /// \throws InputError naming the unknown name or key
-ScanJob builtinJob(const std::string& spec);
+Job builtinJob(const std::string& spec);
 
 /// \brief Names of the built-in jobs with their keys, for help texts.
 std::vector<std::string> builtinJobHelp();
 
 /// \brief A job argument: a built-in spec if its name is built in, otherwise a YAML file path.
-ScanJob resolveJob(const std::string& job_argument);
+Job resolveJob(const std::string& job_argument);
 }  // namespace scanhead

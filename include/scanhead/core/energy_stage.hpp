@@ -14,13 +14,13 @@
 namespace scanhead
 {
 /// \brief Map area for a job: the bounding box of all its points grown by energy.map_margin_m.
-void jobMapBounds(const ScanJob& job, double margin_m, Eigen::Vector2d& min_corner, Eigen::Vector2d& max_corner);
+void jobMapBounds(const Job& job, double margin_m, Eigen::Vector2d& min_corner, Eigen::Vector2d& max_corner);
 
 class EnergyStage
 {
 public:
   /// \param[in] total_samples the job's sample count (for the plot decimation)
-  EnergyStage(const ChainConfig& config, const ScanJob& job, std::uint64_t total_samples);
+  EnergyStage(const ChainConfig& config, const Job& job, std::uint64_t total_samples);
   void process(const SpotChunk& chunk);
   /// \brief Ends the stream and returns the run's metrics.
   RunMetrics finish();

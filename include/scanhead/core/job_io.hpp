@@ -18,15 +18,15 @@
 namespace scanhead
 {
 /// \brief Parses a job. \throws InputError "source:line: field: what is wrong"
-ScanJob parseScanJobYaml(const std::string& yaml_text, const std::string& source);
+Job parseScanJobYaml(const std::string& yaml_text, const std::string& source);
 
 /// \brief Reads and parses a job file. \throws InputError
-ScanJob loadScanJobFile(const std::string& path);
+Job loadScanJobFile(const std::string& path);
 
 /// \brief Checks speeds, powers, finiteness, point counts and that every point lies in the
 /// square field |x|, |y| <= \p field_half_width_m. \throws InputError naming the polyline and point
-void validateScanJob(const ScanJob& job, double field_half_width_m);
+void validateScanJob(const Job& job, double field_half_width_m);
 
 /// \brief The job as YAML in the format above (full precision; parses back to the same job).
-std::string scanJobToYaml(const ScanJob& job);
+std::string scanJobToYaml(const Job& job);
 }  // namespace scanhead

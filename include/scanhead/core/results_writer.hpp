@@ -7,6 +7,7 @@
 /// energy_map_16bit.png (linear, 0..peak) and energy_map.yaml (geometry and scale).
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "scanhead/core/chain_config.hpp"
@@ -19,7 +20,14 @@ namespace scanhead
 /// \brief Marker file that identifies a scanhead results folder (such a folder may be replaced).
 constexpr const char* kResultsMarker = ".scanhead_results";
 
+/// \brief Called on the complete temporary folder just before it is renamed into place (e.g. plots).
+using ResultsFinisher = std::function<void(const std::string& tmp_dir)>;
+
 /// \throws InputError if \p dir exists and is neither empty nor a previous results folder
 void writeResultsFolder(const std::string& dir, const RunMetrics& metrics, const EnergyStage& energy,
-                        const ChainConfig& config, const ScanJob& job);
+                        const ChainConfig& config, const Job& job, const ResultsFinisher& finish = {});
+
+/// \brief A finisher that runs scripts/plot_results.py on the folder with the system python3;
+/// a missing python3-matplotlib only loses the plots (a warning on stderr), never the results.
+ResultsFinisher plotFinisher();
 }  // namespace scanhead

@@ -22,14 +22,13 @@ struct Polyline
   std::vector<Eigen::Vector2d> points;  ///< vertices [m], work-plane frame, at least 2
 };
 
-struct ScanJob
+/// \brief A scan job (the message scanhead/ScanJob carries the same on cam/job).
+struct Job
 {
   std::string name;    ///< short identifier, used in reports
   std::string source;  ///< where it came from (file path or built-in description)
   std::vector<Polyline> polylines;
 };
-
-using Job = ScanJob;  // transitional alias: ScanJob is being renamed to Job (the message owns ScanJob)
 
 /// \brief A direction change inside a MARK polyline (vertex i of polyline p).
 struct Corner
@@ -47,5 +46,5 @@ struct Corner
 /// \brief Corners of more than \p min_angle_rad inside MARK polylines, with their ideal times.
 /// \param[in] job  a validated job
 /// \param[in] implicit_jump_speed_mps speed of the jumps inserted between non-contiguous polylines
-std::vector<Corner> findCorners(const ScanJob& job, double min_angle_rad, double implicit_jump_speed_mps);
+std::vector<Corner> findCorners(const Job& job, double min_angle_rad, double implicit_jump_speed_mps);
 }  // namespace scanhead

@@ -1,0 +1,104 @@
+#include "scanhead/core/results_writer.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include "scanhead/core/batch_chain.hpp"
+#include "scanhead/core/colour_map.hpp"
+#include "scanhead/core/config_io.hpp"
+#include "scanhead/core/errors.hpp"
+#include "scanhead/core/job_io.hpp"
+#include "scanhead/core/metrics_report.hpp"
+#include "scanhead/core/png_writer.hpp"
+
+namespace scanhead
+{
+namespace fs = std::filesystem;
+
+namespace
+{
+constexpr int kMaxImageSide = 2000;  // px; larger maps are shown by block maxima
+
+void writeText(const fs::path& path, const std::string& text)
+{
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out.good())
+    throw InputError(path.string() + ": cannot write");
+}
+
+std::string num(double v)
+{
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  return buffer;
+}
+
+std::string mapDescription(const EnergyMap& map, const EnergyImageLayout& layout)
+{
+  return "# energy_map_16bit.png: E = value / 65535 * scale_max_jpm2, row 0 = top (+y up)\n"
+         "# energy_map.png: inferno colour map, colour bar on the right from 0 (bottom) to scale_max_jpm2 (top)\n"
+         "width: " + std::to_string(map.width()) + "\nheight: " + std::to_string(map.height()) +
+         "\npixel_m: " + num(map.pixel()) + "\norigin_m: [" + num(map.origin().x()) + ", " + num(map.origin().y()) +
+         "]  # lower-left corner of the map\nscale_max_jpm2: " + num(map.peak()) +
+         "\ncolour_image_block: " + std::to_string(layout.block) + "  # map pixels per image pixel\n";
+}
+
+/// A folder the writer may replace: empty, or written by an earlier run.
+bool replaceable(const fs::path& dir)
+{
+  return fs::is_empty(dir) || fs::exists(dir / kResultsMarker);
+}
+}  // namespace
+
+void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, const EnergyStage& energy,
+                        const ChainConfig& config, const Job& job, const ResultsFinisher& finish)
+{
+  const fs::path dir = fs::absolute(dir_text).lexically_normal();
+  if (fs::exists(dir) && (!fs::is_directory(dir) || !replaceable(dir)))
+    throw InputError(dir.string() + ": exists and is not a scanhead results folder; choose another --out");
+  const fs::path parent = dir.parent_path();
+  std::error_code ec;
+  fs::create_directories(parent, ec);
+  if (ec)
+    throw InputError(parent.string() + ": cannot create (" + ec.message() + ")");
+  const fs::path tmp = parent / ("." + dir.filename().string() + ".partial");
+  fs::remove_all(tmp);
+  try
+  {
+    fs::create_directory(tmp);
+    writeText(tmp / kResultsMarker, "written by scanhead\n");
+    writeText(tmp / "metrics.yaml", metricsToYaml(metrics));
+    writeText(tmp / "config.yaml", chainConfigToYaml(config));
+    writeText(tmp / "job.yaml", scanJobToYaml(job));
+    writeText(tmp / "trace.csv", energy.trace().csv(config.nc.period_s));
+    EnergyImageLayout layout;
+    writePng((tmp / "energy_map.png").string(), renderEnergyMap(energy.map(), 0.0, kMaxImageSide, &layout));
+    writePng((tmp / "energy_map_16bit.png").string(), energyMapToGray16(energy.map()));
+    writeText(tmp / "energy_map.yaml", mapDescription(energy.map(), layout));
+    if (finish)
+      finish(tmp.string());
+    if (fs::exists(dir))
+      fs::remove_all(dir);
+    fs::rename(tmp, dir);
+  }
+  catch (...)
+  {
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+}
+
+ResultsFinisher plotFinisher()
+{
+  return [](const std::string& tmp_dir) {
+    const std::string script = resolvePackagePath("scripts/plot_results.py");
+    const std::string command = "/usr/bin/python3 '" + script + "' '" + tmp_dir + "' 2>&1";
+    if (std::system(command.c_str()) != 0)
+      std::fprintf(stderr, "scanhead: plots skipped (%s failed; is python3-matplotlib installed?)\n", script.c_str());
+  };
+}
+}  // namespace scanhead
