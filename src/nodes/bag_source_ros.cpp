@@ -16,8 +16,13 @@ BagSourceNode::BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
   nh.param("config/stream/chunk_samples", chunk_samples, chunk_samples);
   window_samples_ = static_cast<std::uint64_t>(std::max(1, window_chunks)) * std::max(1, chunk_samples);
   bag_.open(path, rosbag::bagmode::Read);
-  const std::vector<std::string> topics = {nh.resolveName("cam/job"), nh.resolveName("nc/setpoint"),
-                                           nh.resolveName("nc/laser")};
+  // rosbag record stores the names as given on its command line: relative or resolved.
+  std::vector<std::string> topics;
+  for (const char* name : {"cam/job", "nc/setpoint", "nc/laser"})
+  {
+    topics.push_back(name);
+    topics.push_back(nh.resolveName(name));
+  }
   view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(topics));
   if (view_->size() == 0)
     throw InputError(path + ": no cam/job, nc/setpoint or nc/laser messages to replay");
