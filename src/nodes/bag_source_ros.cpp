@@ -28,7 +28,7 @@ BagSourceNode::BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
     throw InputError(path + ": no cam/job, nc/setpoint or nc/laser messages to replay");
   next_ = view_->begin();
   job_pub_ = nh.advertise<ScanJob>("cam/job", 1, true);
-  ack_sub_ = nh.subscribe("energy/ack", 100, &BagSourceNode::onAck, this);
+  ack_sub_ = nh.subscribe("energy/ack", 100, &BagSourceNode::onAck, this, ros::TransportHints().tcpNoDelay());
   timer_ = nh.createTimer(ros::Duration(0.01), &BagSourceNode::onTimer, this);
   ROS_INFO("bag_source: replaying %u messages from %s", view_->size(), path.c_str());
 }

@@ -112,7 +112,8 @@ EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandl
   private_nh.param("shutdown_delay_s", shutdown_delay_s_, 0.0);
   if (!out_.empty() && out_.front() != '/' && !base_dir.empty())
     out_ = base_dir + "/" + out_;
-  ack_pub_ = nh.advertise<ChunkAck>("energy/ack", 100);
+  // Latched: an NC that connects late still learns how far the stream got (no deadlock).
+  ack_pub_ = nh.advertise<ChunkAck>("energy/ack", 100, true);
   metrics_pub_ = nh.advertise<JobMetrics>("energy/metrics", 1, true);
   image_pub_ = nh.advertise<sensor_msgs::Image>("energy/map", 1, true);
   grid_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("energy/map_grid", 1, true);

@@ -14,7 +14,7 @@ NcInterpolatorNode::NcInterpolatorNode(ros::NodeHandle& nh, ros::NodeHandle& pri
   , debug_out_(nh, "nc/debug", 0)
 {
   job_sub_ = nh.subscribe("cam/job", 10, &NcInterpolatorNode::onJob, this);
-  ack_sub_ = nh.subscribe("energy/ack", 100, &NcInterpolatorNode::onAck, this);
+  ack_sub_ = nh.subscribe("energy/ack", 100, &NcInterpolatorNode::onAck, this, ros::TransportHints().tcpNoDelay());
   timer_ = nh.createTimer(ros::Duration(0.01), &NcInterpolatorNode::onTimer, this);
 }
 

@@ -11,7 +11,7 @@ using namespace scanhead;
 TEST(FlowControl, SlowConsumerLosesNothing)
 {
   ros::NodeHandle nh;
-  ros::Publisher ack_pub = nh.advertise<ChunkAck>("energy/ack", 100);
+  ros::Publisher ack_pub = nh.advertise<ChunkAck>("energy/ack", 100, true);  // latched, as the energy node
   std::uint64_t next = 0, total = 0, gaps = 0, acked = 0, max_ahead = 0;
   bool done = false;
   ros::Subscriber spots = nh.subscribe<SpotStream>("optics/spot", 0, [&](const SpotStream::ConstPtr& m) {
