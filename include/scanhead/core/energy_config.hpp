@@ -8,8 +8,8 @@ struct EnergyConfig
 {
   double spot_diameter_m = 70.0e-6;   ///< 1/e² diameter 2w of the Gaussian spot [m] (THESIS §2.5)
   double pixel_m = 5.0e-6;            ///< map pixel pitch [m]
-  double max_substep_radii = 0.25;    ///< sub-step length along the path, in spot radii w
-  double truncation_radii = 3.0;      ///< footprint drawn out to this many radii w
+  double max_substep_radii = 0.5;     ///< sub-step length along the path, in spot radii w (ripple 2·exp(-π²/(2·0.5²)) = 5e-9)
+  double truncation_radii = 2.5;      ///< footprint drawn out to this many radii w (exp(-12.5) = 4e-6 of the energy beyond, renormalised)
   double map_margin_m = 0.5e-3;       ///< map extends the job's bounding box by this [m]
   double corner_min_angle_deg = 1.0;  ///< direction changes above this are reported as corners
 
