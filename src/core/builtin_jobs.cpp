@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -136,7 +137,8 @@ Job builtinJob(const std::string& spec_text)
     std::string known;
     for (const auto& help : builtinJobHelp())
       known += "\n  " + help;
-    throw InputError("job '" + spec_text + "': no built-in job named '" + spec.name + "' and no such file; built-in:" + known);
+    throw InputError("job '" + spec_text + "': no such job file, and no built-in job named '" + spec.name +
+                     "'; built-in jobs:" + known);
   }
   const double speed = take(spec, "speed", 2.0);
   const double angle = take(spec, "angle", 53.13);
@@ -150,9 +152,11 @@ Job builtinJob(const std::string& spec_text)
 
 Job resolveJob(const std::string& job_argument)
 {
-  const std::string name = job_argument.substr(0, job_argument.find(':'));
-  if (name == "corner" || name == "hatch")
-    return builtinJob(job_argument);
-  return loadScanJobFile(job_argument);
+  const bool looks_like_path = job_argument.find('/') != std::string::npos ||
+                               job_argument.find(".yaml") != std::string::npos ||
+                               job_argument.find(".yml") != std::string::npos;
+  if (looks_like_path || std::ifstream(job_argument).good())
+    return loadScanJobFile(job_argument);
+  return builtinJob(job_argument);  // an unknown name fails there, listing the built-in jobs
 }
 }  // namespace scanhead

@@ -115,9 +115,14 @@ EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandl
   // Latched: an NC that connects late still learns how far the stream got (no deadlock).
   ack_pub_ = nh.advertise<ChunkAck>("energy/ack", 100, true);
   metrics_pub_ = nh.advertise<JobMetrics>("energy/metrics", 1, true);
-  image_pub_ = nh.advertise<sensor_msgs::Image>("energy/map", 1, true);
-  grid_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("energy/map_grid", 1, true);
-  markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("energy/path_markers", 1, true);
+  // The views are rendered only for subscribers (rendering costs more than a short job): now if
+  // someone listens, else when someone connects, from the last finished job.
+  image_pub_ = nh.advertise<sensor_msgs::Image>(
+      "energy/map", 1, [this](const ros::SingleSubscriberPublisher&) { publishViews(); }, {}, {}, true);
+  grid_pub_ = nh.advertise<nav_msgs::OccupancyGrid>(
+      "energy/map_grid", 1, [this](const ros::SingleSubscriberPublisher&) { publishViews(); }, {}, {}, true);
+  markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>(
+      "energy/path_markers", 1, [this](const ros::SingleSubscriberPublisher&) { publishViews(); }, {}, {}, true);
   job_sub_ = nh.subscribe("cam/job", 10, &EnergyAccumulatorNode::onJob, this);
   spot_sub_ = nh.subscribe("optics/spot", 0, &EnergyAccumulatorNode::onSpot, this, ros::TransportHints().tcpNoDelay());
 }
@@ -198,7 +203,10 @@ void EnergyAccumulatorNode::finishJob()
       failed_ = true;
     }
   }
-  stage_.reset();
+  last_stage_ = std::move(stage_);
+  last_job_ = jobs_.at(job_id_);
+  views_published_ = false;
+  publishViews();
   if (exit_when_done_)  // after a delay that lets a recorder write the last chunks
     shutdown_timer_ = nh_.createWallTimer(ros::WallDuration(std::max(shutdown_delay_s_, 1e-3)),
                                           [](const ros::WallTimerEvent&) { ros::shutdown(); }, true);
@@ -218,8 +226,16 @@ void EnergyAccumulatorNode::publishResults(const RunMetrics& metrics)
   msg.deposited_energy_j = metrics.deposited_energy_j;
   msg.metrics_yaml = metricsToYaml(metrics);
   metrics_pub_.publish(msg);
-  image_pub_.publish(energyImage(stage_->map()));
-  grid_pub_.publish(energyGrid(stage_->map()));
-  markers_pub_.publish(pathMarkers(jobs_.at(job_id_), stage_->trace()));
+}
+
+void EnergyAccumulatorNode::publishViews()
+{
+  const bool wanted = image_pub_.getNumSubscribers() + grid_pub_.getNumSubscribers() + markers_pub_.getNumSubscribers() > 0;
+  if (!last_stage_ || views_published_ || !wanted)
+    return;
+  image_pub_.publish(energyImage(last_stage_->map()));
+  grid_pub_.publish(energyGrid(last_stage_->map()));
+  markers_pub_.publish(pathMarkers(last_job_, last_stage_->trace()));
+  views_published_ = true;  // latched from now on: later subscribers get them without a new render
 }
 }  // namespace scanhead

@@ -31,11 +31,16 @@ private:
   void process(const SpotStream& msg);
   void finishJob();
   void publishResults(const RunMetrics& metrics);
+  /// \brief Energy image, grid and path markers of the last finished job, if anyone subscribes.
+  void publishViews();
 
   ChainConfig config_;
   std::map<std::uint32_t, Job> jobs_;  ///< recent jobs by id
   std::deque<SpotStream::ConstPtr> waiting_;  ///< chunks that came before their job
   std::unique_ptr<EnergyStage> stage_;
+  std::unique_ptr<EnergyStage> last_stage_;  ///< the last finished job, for the views
+  Job last_job_;
+  bool views_published_ = false;
   std::uint32_t job_id_ = 0;
   std::uint64_t total_samples_ = 0;
   std::uint64_t next_index_ = 0;

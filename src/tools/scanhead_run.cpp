@@ -19,6 +19,7 @@ const char* kUsage =
     "usage: scanhead_run [--job FILE|BUILTIN] [--out DIR] [--config FILE] [--set section.key=value ...] [--quiet]\n"
     "  --job     a job YAML file, or a built-in job (default: corner):\n"
     "              corner[:speed=2,angle=53.13,leg=0.004,power=200]\n"
+    "              hatch[:size=0.005,spacing=0.0001,speed=1,jump_speed=4.5,power=200]\n"
     "  --out     results folder to write (metrics.yaml, energy map, plots); default: results/<job>\n"
     "  --config  configuration YAML (default: the package's config/scanhead.yaml)\n"
     "  --set     override one setting, e.g. --set nc.fir_t1_s=300e-6 (repeatable)\n";

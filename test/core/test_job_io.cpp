@@ -102,5 +102,6 @@ TEST(BuiltinJobs, CornerGeometry)
   EXPECT_NEAR(p[2].x(), 0.0024, 1e-7);
   EXPECT_NEAR(p[2].y(), 0.0032, 1e-7);
   EXPECT_NE(errorOf([] { builtinJob("corner:sped=2"); }).find("unknown key 'sped'"), std::string::npos);
-  EXPECT_NE(errorOf([] { resolveJob("square"); }).find("square"), std::string::npos);
+  EXPECT_NE(errorOf([] { resolveJob("square"); }).find("no built-in job named 'square'"), std::string::npos);
+  EXPECT_NE(errorOf([] { resolveJob("/no/such/job.yaml"); }).find("cannot open the job file"), std::string::npos);
 }

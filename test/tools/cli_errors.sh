@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# scanhead_run on bad input: non-zero exit, a message naming the file and field, no results folder.
+set -uo pipefail
+run=${1:-scanhead_run}
+tmp=$(mktemp -d /tmp/scanhead_cli.XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+
+job() {  # job NAME BODY: writes a one-polyline job file
+  printf 'name: t\npolylines:\n  - %s\n' "$2" > "$tmp/$1.yaml"
+}
+expect_error() {  # expect_error LABEL EXPECTED_TEXT ARGS...
+  local label=$1 expected=$2
+  shift 2
+  local out
+  out=$("$run" --out "$tmp/out_$label" --quiet "$@" 2>&1)
+  local code=$?
+  if [ $code -eq 0 ]; then
+    echo "FAIL $label: exit code 0"; failures=$((failures + 1))
+  elif ! grep -qF -- "$expected" <<<"$out"; then
+    echo "FAIL $label: message lacks '$expected': $out"; failures=$((failures + 1))
+  elif [ -e "$tmp/out_$label" ] || ls -a "$tmp" | grep -q partial; then
+    echo "FAIL $label: a results folder was left behind"; failures=$((failures + 1))
+  else
+    echo "ok   $label: $out"
+  fi
+}
+
+printf 'name: t\npolylines:\n  - {type: mark, speed: [1\n' > "$tmp/malformed.yaml"
+expect_error malformed "malformed.yaml:" --job "$tmp/malformed.yaml"
+job unknown_key '{type: mark, speed: 1, power: 1, colour: red, points: [[0, 0], [0.001, 0]]}'
+expect_error unknown_key "unknown_key.yaml:3: polylines[0]: unknown key 'colour'" --job "$tmp/unknown_key.yaml"
+job nan '{type: mark, speed: .nan, power: 1, points: [[0, 0], [0.001, 0]]}'
+expect_error nan "nan.yaml:3: polylines[0].speed: '.nan' is not a number" --job "$tmp/nan.yaml"
+job zero_speed '{type: mark, speed: 0, power: 1, points: [[0, 0], [0.001, 0]]}'
+expect_error zero_speed "zero_speed.yaml: polylines[0].speed must be > 0 m/s (got 0)" --job "$tmp/zero_speed.yaml"
+job negative_power '{type: mark, speed: 1, power: -3, points: [[0, 0], [0.001, 0]]}'
+expect_error negative_power "polylines[0].power must be >= 0 W (got -3)" --job "$tmp/negative_power.yaml"
+job outside '{type: mark, speed: 1, power: 1, points: [[0, 0], [0.5, 0]]}'
+expect_error outside "polylines[0].points[1] = (0.5, 0) m lies outside the field" --job "$tmp/outside.yaml"
+job one_point '{type: mark, speed: 1, power: 1, points: [[0, 0]]}'
+expect_error one_point "polylines[0].points: needs at least 2 points (got 1)" --job "$tmp/one_point.yaml"
+expect_error missing_file "no_such.yaml: cannot open the job file" --job "$tmp/no_such.yaml"
+expect_error unknown_builtin "no such job file, and no built-in job named 'squares'" --job squares
+expect_error unknown_setting "unknown key 'nc.fir_t3_s'" --set nc.fir_t3_s=1
+expect_error bad_setting "nc.period_s (--set): 'fast' is not a number" --set nc.period_s=fast
+expect_error bad_range "nc.fir_t1_s must be >= 0" --set nc.fir_t1_s=-1e-5
+expect_error bad_argument "unknown argument '--jbo'" --jbo corner
+
+# A foreign folder is never overwritten.
+mkdir -p "$tmp/foreign" && echo data > "$tmp/foreign/keep.txt"
+out=$("$run" --out "$tmp/foreign" --quiet 2>&1); code=$?
+if [ $code -eq 0 ] || [ ! -f "$tmp/foreign/keep.txt" ] || [ -e "$tmp/foreign/metrics.yaml" ]; then
+  echo "FAIL foreign folder: $out"; failures=$((failures + 1))
+else
+  echo "ok   foreign folder: $out"
+fi
+echo "$failures failure(s)"
+[ $failures -eq 0 ]
