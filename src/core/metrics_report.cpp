@@ -67,12 +67,13 @@ std::string metricsTable(const RunMetrics& m)
   out += line;
   if (m.corners.empty())
     return out;
-  out += "corner  angle[deg]  V[mm/s] | min speed [mm/s]: setpoint  actual  theory (sp err) | contour error [um]: setpoint  actual  theory (sp err)\n";
+  out += "corner  angle   speed  |        min speed [mm/s]             |       contour error [um]\n"
+         "        [deg]   [mm/s] | setpoint  actual  theory  sp/theory | setpoint  actual  theory  sp/theory\n";
   for (std::size_t i = 0; i < m.corners.size(); ++i)
   {
     const CornerReport& c = m.corners[i];
-    std::snprintf(line, sizeof line, "%6zu  %10.2f  %7.0f | %26.1f %7.1f %7.1f (%+.2f %%) | %28.2f %7.2f %7.2f (%+.2f %%)\n",
-                  i, c.corner.angle_rad * 180.0 / M_PI, c.corner.speed_mps * 1e3, c.setpoint.min_speed_mps * 1e3,
+    std::snprintf(line, sizeof line, "%-6zu  %6.2f  %6.0f | %8.1f  %6.1f  %6.1f  %+7.2f %% | %8.2f  %6.2f  %6.2f  %+7.2f %%\n", i,
+                  c.corner.angle_rad * 180.0 / M_PI, c.corner.speed_mps * 1e3, c.setpoint.min_speed_mps * 1e3,
                   c.actual.min_speed_mps * 1e3, c.theory.min_speed_mps * 1e3,
                   100.0 * relative(c.setpoint.min_speed_mps, c.theory.min_speed_mps), c.setpoint.max_contour_error_m * 1e6,
                   c.actual.max_contour_error_m * 1e6, c.theory.max_contour_error_m * 1e6,
