@@ -14,7 +14,8 @@ export ROS_IP=127.0.0.1
 export ROS_MASTER_URI="http://127.0.0.1:$((20000 + $$ % 10000))"
 rm -rf build/scanhead/test_results
 colcon test --event-handlers console_direct- --return-code-on-test-failure --ctest-args --output-on-failure
-colcon test-result --verbose --test-result-base build/scanhead/test_results
-count=$(find build/scanhead/test_results -name '*.xml' | xargs grep -ho 'tests="[0-9]*"' | tr -dc '0-9\n' | paste -sd+ | bc)
-echo "test cases run: ${count:-0}"
+summary=$(colcon test-result --verbose --test-result-base build/scanhead/test_results)
+echo "$summary"
+count=$(sed -n 's/^Summary: \([0-9]*\) tests.*/\1/p' <<<"$summary")
+echo "gtest/rostest cases run: ${count:-0} (plus the CTest script tests above)"
 [ "${count:-0}" -gt 0 ] || { echo "no test ran" >&2; exit 1; }
