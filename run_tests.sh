@@ -13,7 +13,13 @@ export ROS_IP=127.0.0.1
 # A master port of our own, so two runs (or a running virtual machine) never collide.
 export ROS_MASTER_URI="http://127.0.0.1:$((20000 + $$ % 10000))"
 rm -rf build/scanhead/test_results
-colcon test --event-handlers console_direct- --return-code-on-test-failure --ctest-args --output-on-failure
+if ! colcon test --event-handlers console_direct- --return-code-on-test-failure --ctest-args --output-on-failure; then
+  colcon test-result --verbose --test-result-base build/scanhead/test_results || true
+  echo "FAILED tests (CTest numbering):"
+  cat build/scanhead/Testing/Temporary/LastTestsFailed.log 2>/dev/null || true
+  echo "full output: log/latest_test/scanhead/stdout_stderr.log"
+  exit 1
+fi
 summary=$(colcon test-result --verbose --test-result-base build/scanhead/test_results)
 echo "$summary"
 count=$(sed -n 's/^Summary: \([0-9]*\) tests.*/\1/p' <<<"$summary")
