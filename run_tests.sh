@@ -3,13 +3,7 @@
 # Fails if any test fails or if no test ran.
 set -euo pipefail
 cd "$(dirname "$0")"
-scripts/install_deps.sh
-scripts/build.sh
-set +u
-. install/setup.sh
-set -u
-export PATH="/usr/bin:$PATH"
-export ROS_IP=127.0.0.1
+. scripts/prepare.sh
 # A master port of our own, so two runs (or a running virtual machine) never collide.
 export ROS_MASTER_URI="http://127.0.0.1:$((20000 + $$ % 10000))"
 rm -rf build/scanhead/test_results

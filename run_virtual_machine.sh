@@ -4,13 +4,7 @@
 #   ./run_virtual_machine.sh job:=my_job.yaml out:=results/mine rviz:=true
 set -euo pipefail
 cd "$(dirname "$0")"
-scripts/install_deps.sh
-scripts/build.sh
-set +u
-. install/setup.sh
-set -u
-export PATH="/usr/bin:$PATH"
-export ROS_IP=127.0.0.1
+. scripts/prepare.sh
 export ROS_MASTER_URI="${ROS_MASTER_URI:-http://127.0.0.1:11311}"
 args=("$@")
 printf '%s\n' "${args[@]}" | grep -q '^out:=' || args+=("out:=results/corner")

@@ -8,6 +8,7 @@
 
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/job_io.hpp"
+#include "scanhead/core/number_text.hpp"
 
 namespace scanhead
 {
@@ -33,17 +34,8 @@ Spec parseSpec(const std::string& spec)
     if (eq == std::string::npos)
       throw InputError("job '" + spec + "': expected key=value, got '" + item + "'");
     const std::string value = item.substr(eq + 1);
-    std::size_t used = 0;
     double number = 0.0;
-    try
-    {
-      number = std::stod(value, &used);
-    }
-    catch (const std::exception&)
-    {
-      used = 0;
-    }
-    if (used == 0 || used != value.size() || !std::isfinite(number))
+    if (parseNumber(value, number) != NumberText::Ok)
       throw InputError("job '" + spec + "': " + item.substr(0, eq) + ": '" + value + "' is not a number");
     out.values[item.substr(0, eq)] = number;
   }
@@ -58,6 +50,12 @@ double take(Spec& spec, const std::string& key, double fallback)
   const double value = it->second;
   spec.values.erase(it);
   return value;
+}
+/// Keys left after every take() were not understood.
+void rejectUnknownKeys(const Spec& spec, const std::string& spec_text, const char* known)
+{
+  if (!spec.values.empty())
+    throw InputError("job '" + spec_text + "': unknown key '" + spec.values.begin()->first + "' (known: " + known + ")");
 }
 }  // namespace
 
@@ -125,9 +123,7 @@ Job builtinJob(const std::string& spec_text)
     const double speed = take(spec, "speed", 1.0);
     const double jump_speed = take(spec, "jump_speed", 4.5);
     const double power = take(spec, "power", 200.0);
-    if (!spec.values.empty())
-      throw InputError("job '" + spec_text + "': unknown key '" + spec.values.begin()->first +
-                       "' (known: size, spacing, speed, jump_speed, power)");
+    rejectUnknownKeys(spec, spec_text, "size, spacing, speed, jump_speed, power");
     if (!(size > 0.0) || !(spacing > 0.0) || size / spacing > 1e6)
       throw InputError("job '" + spec_text + "': size and spacing must be > 0 with at most 1e6 lines");
     return makeHatchJob(size, spacing, speed, jump_speed, power);
@@ -144,9 +140,7 @@ Job builtinJob(const std::string& spec_text)
   const double angle = take(spec, "angle", 53.13);
   const double leg = take(spec, "leg", 0.004);
   const double power = take(spec, "power", 200.0);
-  if (!spec.values.empty())
-    throw InputError("job '" + spec_text + "': unknown key '" + spec.values.begin()->first +
-                     "' (known: speed, angle, leg, power)");
+  rejectUnknownKeys(spec, spec_text, "speed, angle, leg, power");
   return makeCornerJob(speed, angle, leg, power);
 }
 

@@ -8,7 +8,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "scanhead/core/config_check.hpp"
 #include "scanhead/core/errors.hpp"
+#include "scanhead/core/number_text.hpp"
 
 namespace scanhead
 {
@@ -57,21 +59,15 @@ std::string origin(const std::string& key, const ConfigValue& v)
 
 void parseValue(const std::string& key, const ConfigValue& v, double& out)
 {
-  std::size_t used = 0;
-  double value = 0.0;
-  try
+  switch (parseNumber(v.text, out))
   {
-    value = std::stod(v.text, &used);
+    case NumberText::Ok:
+      return;
+    case NumberText::NotFinite:
+      throw ConfigError(origin(key, v) + ": '" + v.text + "' is not a finite number");
+    case NumberText::NotNumber:
+      throw ConfigError(origin(key, v) + ": '" + v.text + "' is not a number");
   }
-  catch (const std::exception&)
-  {
-    used = 0;
-  }
-  if (used == 0 || used != v.text.size())
-    throw ConfigError(origin(key, v) + ": '" + v.text + "' is not a number");
-  if (!std::isfinite(value))
-    throw ConfigError(origin(key, v) + ": '" + v.text + "' is not a finite number");
-  out = value;
 }
 
 void parseValue(const std::string& key, const ConfigValue& v, std::size_t& out)
@@ -250,10 +246,8 @@ std::string chainConfigToYaml(const ChainConfig& config)
 
 void StreamConfig::validate() const
 {
-  if (chunk_samples < 1)
-    throw ConfigError("stream.chunk_samples must be >= 1 (got " + std::to_string(chunk_samples) + ")");
-  if (window_chunks < 1)
-    throw ConfigError("stream.window_chunks must be >= 1 (got " + std::to_string(window_chunks) + ")");
+  requireSetting(chunk_samples >= 1, "stream.chunk_samples", ">= 1", static_cast<double>(chunk_samples));
+  requireSetting(window_chunks >= 1, "stream.window_chunks", ">= 1", static_cast<double>(window_chunks));
 }
 
 void ChainConfig::validate() const

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "scanhead/core/errors.hpp"
+#include "scanhead/core/number_text.hpp"
 
 namespace scanhead
 {
@@ -24,20 +25,11 @@ double number(const YAML::Node& node, const std::string& source, const std::stri
   if (!node.IsScalar())
     throw InputError(at(source, node) + ": " + field + ": expected a number");
   const std::string& text = node.Scalar();
-  std::size_t used = 0;
   double value = 0.0;
-  try
-  {
-    value = std::stod(text, &used);
-  }
-  catch (const std::exception&)
-  {
-    used = 0;
-  }
-  if (used == 0 || used != text.size())
-    throw InputError(at(source, node) + ": " + field + ": '" + text + "' is not a number");
-  if (!std::isfinite(value))
-    throw InputError(at(source, node) + ": " + field + ": '" + text + "' is not a finite number");
+  const NumberText status = parseNumber(text, value);
+  if (status != NumberText::Ok)
+    throw InputError(at(source, node) + ": " + field + ": '" + text + "' is not a " +
+                     (status == NumberText::NotFinite ? "finite number" : "number"));
   return value;
 }
 

@@ -3,30 +3,17 @@
 
 #include <sstream>
 
+#include "scanhead/core/config_check.hpp"
 #include "scanhead/core/errors.hpp"
 
 namespace scanhead
 {
-namespace
-{
-/// \brief Throws "<field> must be > 0 (got <value>)" unless value > 0 (NaN fails too).
-void requirePositive(const std::string& field, double value)
-{
-  if (!(value > 0.0))
-  {
-    std::ostringstream msg;
-    msg << field << " must be > 0 (got " << value << ")";
-    throw ConfigError(msg.str());
-  }
-}
-}  // namespace
-
 void AxisLoopConfig::validate(const std::string& axis) const
 {
   const std::string prefix = "servo." + axis + ".";
-  requirePositive(prefix + "bandwidth_hz", bandwidth_hz);
-  requirePositive(prefix + "damping", damping);
-  requirePositive(prefix + "pole_ratio", pole_ratio);
+  requireSetting(bandwidth_hz > 0.0, prefix + "bandwidth_hz", "> 0", bandwidth_hz);
+  requireSetting(damping > 0.0, prefix + "damping", "> 0", damping);
+  requireSetting(pole_ratio > 0.0, prefix + "pole_ratio", "> 0", pole_ratio);
 }
 
 void ServoConfig::validate() const
@@ -37,6 +24,6 @@ void ServoConfig::validate() const
   }
   x.validate("x");
   y.validate("y");
-  requirePositive("servo.kc_over_jeq", kc_over_jeq);
+  requireSetting(kc_over_jeq > 0.0, "servo.kc_over_jeq", "> 0", kc_over_jeq);
 }
 }  // namespace scanhead

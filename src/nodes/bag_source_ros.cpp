@@ -15,6 +15,7 @@ BagSourceNode::BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
   private_nh.param("window_chunks", window_chunks, window_chunks);
   nh.param("config/stream/chunk_samples", chunk_samples, chunk_samples);
   window_samples_ = static_cast<std::uint64_t>(std::max(1, window_chunks)) * std::max(1, chunk_samples);
+  window_.start(0, window_samples_);  // until the bag's first job
   bag_.open(path, rosbag::bagmode::Read);
   // rosbag record stores the names as given on its command line: relative or resolved.
   std::vector<std::string> topics;
@@ -35,11 +36,8 @@ BagSourceNode::BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
 
 void BagSourceNode::onAck(const ChunkAck& msg)
 {
-  if (msg.job_id == job_id_ && msg.next_index > acked_)
-  {
-    acked_ = msg.next_index;
+  if (window_.onAck(msg))
     pump();
-  }
 }
 
 void BagSourceNode::onTimer(const ros::TimerEvent&)
@@ -51,19 +49,18 @@ void BagSourceNode::onTimer(const ros::TimerEvent&)
 
 void BagSourceNode::pump()
 {
-  while (next_ != view_->end() && published_ < acked_ + window_samples_)
+  while (next_ != view_->end() && window_.canSend())
   {
     const rosbag::MessageInstance& m = *next_;
     if (const auto job = m.instantiate<ScanJob>())
     {
-      job_id_ = job->job_id;
-      published_ = acked_ = 0;
+      window_.start(job->job_id, window_samples_);
       job_pub_.publish(*job);
     }
     else if (const auto setpoint = m.instantiate<NcSetpoint>())
     {
       setpoint_out_.push(*setpoint);
-      published_ = setpoint->chunk.first_index + setpoint->trajectory.points.size();
+      window_.sent(setpoint->chunk.first_index + setpoint->trajectory.points.size());
     }
     else if (const auto laser = m.instantiate<NcLaser>())
       laser_out_.push(*laser);

@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "ros_chunk_outlet.hpp"
+#include "ros_flow_window.hpp"
 
 namespace scanhead
 {
@@ -40,8 +41,6 @@ private:
   ros::Subscriber ack_sub_;
   ros::Timer timer_;
   std::uint64_t window_samples_ = 16000;
-  std::uint32_t job_id_ = 0;
-  std::uint64_t published_ = 0;
-  std::uint64_t acked_ = 0;
+  FlowWindow window_;
 };
 }  // namespace scanhead

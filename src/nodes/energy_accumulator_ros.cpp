@@ -173,6 +173,10 @@ void EnergyAccumulatorNode::process(const SpotStream& msg)
     total_samples_ = msg.chunk.total_samples;
     stage_ = std::make_unique<EnergyStage>(config_, jobs_.at(job_id_), total_samples_);
     next_index_ = 0;
+    if (msg.chunk.first_index != 0)
+      ROS_ERROR("energy: job %u starts at sample %llu: the first samples were lost upstream (a stage that "
+                "connected late?); they are counted as dropped",
+                job_id_, static_cast<unsigned long long>(msg.chunk.first_index));
   }
   const SpotChunk chunk = fromMsg(msg);
   stage_->process(chunk);
@@ -181,6 +185,10 @@ void EnergyAccumulatorNode::process(const SpotStream& msg)
   ack.job_id = job_id_;
   ack.next_index = next_index_;
   ack_pub_.publish(ack);
+  if (total_samples_ > 100000)  // progress on jobs longer than a second of machine time
+    ROS_INFO_THROTTLE(2.0, "energy: job %u at %.0f %% (%llu of %llu samples)", job_id_,
+                    100.0 * static_cast<double>(next_index_) / static_cast<double>(std::max<std::uint64_t>(1, total_samples_)),
+                    static_cast<unsigned long long>(next_index_), static_cast<unsigned long long>(total_samples_));
   if (next_index_ >= total_samples_)
     finishJob();
 }

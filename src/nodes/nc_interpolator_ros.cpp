@@ -11,7 +11,7 @@ NcInterpolatorNode::NcInterpolatorNode(ros::NodeHandle& nh, ros::NodeHandle& pri
   , optics_(opticalModelFromParams(nh, config_.optics))
   , setpoint_out_(nh, "nc/setpoint", expectedSubscribers(nh, private_nh, "setpoint_subscribers", 2))
   , laser_out_(nh, "nc/laser", expectedSubscribers(nh, private_nh, "laser_subscribers", 1))
-  , debug_out_(nh, "nc/debug", 0)
+  , debug_out_(nh, "nc/debug", expectedSubscribers(nh, private_nh, "debug_subscribers", 0))
 {
   job_sub_ = nh.subscribe("cam/job", 10, &NcInterpolatorNode::onJob, this);
   ack_sub_ = nh.subscribe("energy/ack", 100, &NcInterpolatorNode::onAck, this, ros::TransportHints().tcpNoDelay());
@@ -27,10 +27,8 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
     auto nc = std::make_unique<NcInterpolator>(config_.nc, *optics_);
     nc->start(job);
     nc_ = std::move(nc);
-    job_id_ = msg.job_id;
-    published_ = 0;
-    acked_ = 0;
-    ROS_INFO("nc: job %u '%s': %llu samples (%.3f ms)", job_id_, job.name.c_str(),
+    window_.start(msg.job_id, config_.stream.window_chunks * config_.stream.chunk_samples);
+    ROS_INFO("nc: job %u '%s': %llu samples (%.3f ms)", msg.job_id, job.name.c_str(),
              static_cast<unsigned long long>(nc_->totalSamples()), 1e3 * nc_->totalSamples() * config_.nc.period_s);
     pump();
   }
@@ -42,34 +40,31 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
 
 void NcInterpolatorNode::onAck(const ChunkAck& msg)
 {
-  if (msg.job_id == job_id_ && msg.next_index > acked_)
-  {
-    acked_ = msg.next_index;
+  if (window_.onAck(msg))
     pump();
-  }
 }
 
 void NcInterpolatorNode::onTimer(const ros::TimerEvent&)
 {
   setpoint_out_.flush();
   laser_out_.flush();
+  debug_out_.flush();
 }
 
 void NcInterpolatorNode::pump()
 {
   if (!nc_)
     return;
-  const std::uint64_t window = config_.stream.window_chunks * config_.stream.chunk_samples;
-  while (!nc_->done() && published_ < acked_ + window)
+  while (!nc_->done() && window_.canSend())
   {
     const NcOutput out = nc_->process(config_.stream.chunk_samples);
     const ChunkHeader header =
-        makeChunkHeader(job_id_, out.setpoint.first_index, out.setpoint.period_s, nc_->totalSamples());
+        makeChunkHeader(window_.jobId(), out.setpoint.first_index, out.setpoint.period_s, nc_->totalSamples());
     setpoint_out_.push(toMsg(out.setpoint, header));
     laser_out_.push(toMsg(out.laser, header));
     if (config_.nc.debug)
       debug_out_.push(toMsg(out.debug, header));
-    published_ = out.setpoint.endIndex();
+    window_.sent(out.setpoint.endIndex());
   }
 }
 }  // namespace scanhead

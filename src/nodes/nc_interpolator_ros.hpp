@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "ros_chunk_outlet.hpp"
+#include "ros_flow_window.hpp"
 #include "scanhead/core/chain_config.hpp"
 #include "scanhead/core/nc_interpolator.hpp"
 
@@ -40,8 +41,6 @@ private:
   ChunkOutlet<NcDebug> debug_out_;
   ros::Subscriber job_sub_, ack_sub_;
   ros::Timer timer_;
-  std::uint32_t job_id_ = 0;
-  std::uint64_t published_ = 0;  ///< samples published for the current job
-  std::uint64_t acked_ = 0;      ///< samples the last stage has consumed
+  FlowWindow window_;
 };
 }  // namespace scanhead

@@ -1,0 +1,13 @@
+/// \file config_check.hpp
+/// \brief The one check every config validate() uses, so all messages read alike.
+#pragma once
+
+#include <string>
+
+namespace scanhead
+{
+/// \brief Throws ConfigError "<field> must be <relation> (got <value>)" unless \p ok, and
+/// "<field> must be finite (got inf)" for an infinite value. Write \p ok as a comparison that NaN
+/// fails (e.g. `x > 0`), so NaN is rejected with the relation it broke.
+void requireSetting(bool ok, const std::string& field, const char* relation, double value);
+}  // namespace scanhead

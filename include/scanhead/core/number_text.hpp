@@ -1,0 +1,18 @@
+/// \file number_text.hpp
+/// \brief Strict text → number: the whole text must be one finite number (job files, config, specs).
+#pragma once
+
+#include <string>
+
+namespace scanhead
+{
+enum class NumberText
+{
+  Ok,         ///< the whole text is a finite number
+  NotNumber,  ///< empty, trailing characters, or no number at all
+  NotFinite   ///< nan, inf
+};
+
+/// \brief Parses \p text into \p value (unchanged unless Ok).
+NumberText parseNumber(const std::string& text, double& value);
+}  // namespace scanhead
