@@ -71,10 +71,14 @@ void GalvoServoNode::publishDisplay(const JointSample& sample)
   state.effort = {sample.current.x(), sample.current.y()};
   display_pub_.publish(state);
   last_display_ = ros::WallTime::now();
+  last_display_sample_ = sample;
 }
 
 void GalvoServoNode::onTimer(const ros::TimerEvent&)
 {
   joints_out_.flush();
+  // Keep the TF of the mirrors fresh between jobs (robot_state_publisher needs joint states).
+  if ((ros::WallTime::now() - last_display_).toSec() >= display_period_s_)
+    publishDisplay(last_display_sample_);
 }
 }  // namespace scanhead

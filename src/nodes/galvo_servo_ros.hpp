@@ -37,5 +37,6 @@ private:
   std::uint64_t next_index_ = 0;
   double display_period_s_ = 1.0 / 30.0;
   ros::WallTime last_display_;
+  JointSample last_display_sample_;  ///< at rest at 0 before the first job
 };
 }  // namespace scanhead
