@@ -72,7 +72,7 @@ Job makeCornerJob(double speed_mps, double angle_deg, double leg_m, double power
   std::ostringstream name;
   name << "corner_" << angle_deg << "deg_" << speed_mps << "mps";
   job.name = name.str();
-  job.source = "built-in corner test (NC §3): V = " + std::to_string(speed_mps) + " m/s, gamma = " +
+  job.source = "built-in corner test of the NC paper: V = " + std::to_string(speed_mps) + " m/s, gamma = " +
                std::to_string(angle_deg) + " deg";
   job.polylines.push_back(line);
   return job;

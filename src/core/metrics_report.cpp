@@ -61,7 +61,7 @@ std::string metricsTable(const RunMetrics& m)
                 m.job_name.c_str(), static_cast<unsigned long long>(m.samples),
                 static_cast<unsigned long long>(m.dropped_samples), m.duration_s * 1e3, m.laser_on_time_s * 1e3);
   out += line;
-  std::snprintf(line, sizeof line, "energy: commanded %.6f J, deposited %.6f J (%+.4f %%), off the map %.3g J, peak %.4g J/mm²\n",
+  std::snprintf(line, sizeof line, "energy: commanded %.6f J, deposited %.6f J (%+.4f %%), off the map %.3g J, peak %.4g J/mm^2\n",
                 m.commanded_energy_j, m.deposited_energy_j, 100.0 * relative(m.deposited_energy_j, m.commanded_energy_j),
                 m.energy_outside_map_j, m.peak_energy_density_jpm2 * 1e-6);
   out += line;
