@@ -6,6 +6,7 @@
 #include <memory>
 #include <sstream>
 
+#include "scanhead/core/cascade_axis.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/foh_discretisation.hpp"
 
@@ -14,6 +15,23 @@ namespace scanhead
 namespace
 {
 constexpr double kPi = 3.14159265358979323846;
+
+/// \brief Both axes sample-major with direct (devirtualised) calls of the final classes.
+template <class Axis>
+void stepBoth(Axis& ax, Axis& ay, const SetpointChunk& setpoint, JointChunk& out)
+{
+  const std::size_t n = setpoint.samples.size();
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const SetpointSample& s = setpoint.samples[k];
+    const AxisModel::Output ox = ax.step(s.position[0], s.velocity[0], s.acceleration[0]);
+    const AxisModel::Output oy = ay.step(s.position[1], s.velocity[1], s.acceleration[1]);
+    JointSample& j = out.samples[k];
+    j.position = Eigen::Vector2d(ox.position, oy.position);
+    j.velocity = Eigen::Vector2d(ox.velocity, oy.velocity);
+    j.current = Eigen::Vector2d(ox.current, oy.current);
+  }
+}
 
 /// \brief |H0(jΩ)|² of the normalised loop (SPEC §3 first fidelity; see naturalFrequencyForBandwidth).
 double normalisedGainSquared(double omega, double zeta, double ratio)
@@ -118,33 +136,61 @@ double ClosedLoopAxis::lowFrequencyDelay() const
   return 2.0 * zeta_ / wn_ + 1.0 / p_;
 }
 
-GalvoServo::GalvoServo(const ServoConfig& config, double period_s) : config_(config), period_s_(period_s)
+std::unique_ptr<AxisModel> makeAxisModel(const ServoConfig& config, int axis, double period_s)
 {
-  config_.validate();
-  if (!(period_s_ > 0.0) || !std::isfinite(period_s_))
+  config.validate();
+  if (!(period_s > 0.0) || !std::isfinite(period_s))
   {
     std::ostringstream msg;
-    msg << "servo: period_s must be > 0 (got " << period_s_ << ")";
+    msg << "servo: period_s must be > 0 (got " << period_s << ")";
     throw ConfigError(msg.str());
   }
-  const AxisLoopConfig* loops[2] = {&config_.x, &config_.y};
-  const char* names[2] = {"x", "y"};
+  if (axis != 0 && axis != 1)
+  {
+    throw ConfigError("servo: axis must be 0 (x) or 1 (y) (got " + std::to_string(axis) + ")");
+  }
+  const AxisLoopConfig& loop = axis == 0 ? config.x : config.y;
+  const char* name = axis == 0 ? "x" : "y";
+  if (config.model == "cascade")
+  {
+    return std::make_unique<CascadeAxis>(loop, period_s, config.controller_rate_hz,
+                                         config.feedforward_derivatives == "differentiate",
+                                         config.voltage_feedforward);
+  }
+  // The first-order hold assumes the setpoint is smooth at the sample rate; a loop faster than a
+  // fifth of the sample rate would make that assumption (not the discretisation) the error.
+  const double limit_hz = 0.2 / period_s;
+  if (!(loop.bandwidth_hz < limit_hz))
+  {
+    std::ostringstream msg;
+    msg << "servo." << name << ".bandwidth_hz must be < 0.2 / period_s = " << limit_hz << " (got "
+        << loop.bandwidth_hz << ")";
+    throw ConfigError(msg.str());
+  }
+  return std::make_unique<ClosedLoopAxis>(loop, period_s, config.kc_over_jeq);
+}
+
+double axisLowFrequencyDelay(const AxisModel& model)
+{
+  if (const auto* c = dynamic_cast<const CascadeAxis*>(&model))
+  {
+    return c->lowFrequencyDelay();
+  }
+  if (const auto* c = dynamic_cast<const ClosedLoopAxis*>(&model))
+  {
+    return c->lowFrequencyDelay();
+  }
+  throw NumericalError("axisLowFrequencyDelay: unknown axis model");
+}
+
+GalvoServo::GalvoServo(const ServoConfig& config, double period_s) : config_(config), period_s_(period_s)
+{
   for (int a = 0; a < 2; ++a)
   {
-    // The first-order hold assumes the setpoint is smooth at the sample rate; a loop faster than a
-    // fifth of the sample rate would make that assumption (not the discretisation) the error.
-    const double limit_hz = 0.2 / period_s_;
-    if (!(loops[a]->bandwidth_hz < limit_hz))
-    {
-      std::ostringstream msg;
-      msg << "servo." << names[a] << ".bandwidth_hz must be < 0.2 / period_s = " << limit_hz << " (got "
-          << loops[a]->bandwidth_hz << ")";
-      throw ConfigError(msg.str());
-    }
-    auto axis = std::make_unique<ClosedLoopAxis>(*loops[a], period_s_, config_.kc_over_jeq);
-    closed_loop_[a] = axis.get();
-    delay_[a] = axis->lowFrequencyDelay();
-    axes_[a] = std::move(axis);
+    axes_[a] = makeAxisModel(config_, a, period_s_);
+    closed_loop_[a] = dynamic_cast<ClosedLoopAxis*>(axes_[a].get());
+    cascade_[a] = dynamic_cast<CascadeAxis*>(axes_[a].get());
+    delay_[a] = axisLowFrequencyDelay(*axes_[a]);
   }
 }
 
@@ -174,18 +220,12 @@ JointChunk GalvoServo::process(const SetpointChunk& setpoint)
   {
     // Both axes closed-loop: one sample-major loop, the two independent recursions interleave, and
     // the final class makes the calls direct (inlined).
-    ClosedLoopAxis& ax = *closed_loop_[0];
-    ClosedLoopAxis& ay = *closed_loop_[1];
-    for (std::size_t k = 0; k < n; ++k)
-    {
-      const SetpointSample& s = setpoint.samples[k];
-      const AxisModel::Output ox = ax.step(s.position[0], s.velocity[0], s.acceleration[0]);
-      const AxisModel::Output oy = ay.step(s.position[1], s.velocity[1], s.acceleration[1]);
-      JointSample& j = out.samples[k];
-      j.position = Eigen::Vector2d(ox.position, oy.position);
-      j.velocity = Eigen::Vector2d(ox.velocity, oy.velocity);
-      j.current = Eigen::Vector2d(ox.current, oy.current);
-    }
+    stepBoth(*closed_loop_[0], *closed_loop_[1], setpoint, out);
+    return out;
+  }
+  if (cascade_[0] != nullptr && cascade_[1] != nullptr)
+  {
+    stepBoth(*cascade_[0], *cascade_[1], setpoint, out);
     return out;
   }
   for (int a = 0; a < 2; ++a)

@@ -62,9 +62,18 @@ TEST(BatchChain, CornerMatchesClosedForms)
     EXPECT_NEAR(r.theory.max_contour_error_m, e_c, 1e-15) << spec;
     EXPECT_NEAR(r.setpoint.min_speed_mps, v_min, 0.01 * v_min) << spec;
     EXPECT_NEAR(r.setpoint.max_contour_error_m, e_c, 0.02 * e_c) << spec;
-    // The servo smooths the corner further (lower minimum speed); its unequal X/Y lags shift the
-    // path sideways, so the corner distance may grow or shrink, but stays of the same order.
+    // The servo smooths the corner further (lower minimum speed). On the NC paper's corners (2 m/s,
+    // 53.13° and 108.43°) the default cascade model (voltage feedforward on) keeps the actual path
+    // close to the filtered setpoint: the acceptance, actual contour error within 10 % of the
+    // setpoint's (measured −6.2 %, −0.8 %). The other cases stay of the same order (1 m/s 90°: +17 %;
+    // 0.5 m/s 30°: 9.0 µm vs 4.75 µm, friction and the X/Y lag difference dominate a small corner).
     EXPECT_LT(r.actual.min_speed_mps, r.setpoint.min_speed_mps) << spec;
+    if (c.speed_mps == 2.0)
+    {
+      EXPECT_NEAR(r.actual.max_contour_error_m, r.setpoint.max_contour_error_m,
+                  0.10 * r.setpoint.max_contour_error_m)
+          << spec;
+    }
     EXPECT_GT(r.actual.max_contour_error_m, 0.5 * r.setpoint.max_contour_error_m) << spec;
     EXPECT_LT(r.actual.max_contour_error_m, 3.0 * r.setpoint.max_contour_error_m) << spec;
     std::printf("%-36s setpoint %.1f mm/s (theory %.1f, %+.3f %%), e_c %.2f um (theory %.2f, %+.3f %%); actual %.1f mm/s, %.2f um\n",

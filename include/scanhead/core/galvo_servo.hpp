@@ -10,6 +10,8 @@
 
 namespace scanhead
 {
+class CascadeAxis;
+
 /// \brief One axis of the servo, stepped once per sample (the interface a cascade model implements).
 class AxisModel
 {
@@ -90,11 +92,22 @@ private:
 /// \throws NumericalError if no crossing is found (cannot happen for valid configs)
 double naturalFrequencyForBandwidth(const AxisLoopConfig& config);
 
+/// \brief The axis model \p config selects: servo.model "cascade" (CascadeAxis: GalvoPlant under
+/// the cascade controller, SPEC §3) or "closed_loop_3rd_order" (ClosedLoopAxis).
+/// \param[in] axis  0 = x (galvo_x), 1 = y (galvo_y)
+/// \param[in] period_s  sample period Ts [s]
+/// \throws ConfigError on an invalid config or period, an axis not 0/1, bandwidth_hz ≥ 0.2 / period_s
+/// (closed_loop_3rd_order), a controller period neither a whole multiple nor a whole fraction of Ts (cascade)
+std::unique_ptr<AxisModel> makeAxisModel(const ServoConfig& config, int axis, double period_s);
+
+/// \brief Low-frequency delay of an axis made by makeAxisModel (ClosedLoopAxis or CascadeAxis) [s].
+double axisLowFrequencyDelay(const AxisModel& model);
+
 /// \brief Servo stage of the chain: per-axis models (X = galvo_x, Y = galvo_y) over the setpoint stream.
 class GalvoServo
 {
 public:
-  /// \throws ConfigError on an invalid config, an unknown servo.model, or bandwidth_hz ≥ 0.2 / period_s
+  /// \throws ConfigError as makeAxisModel
   GalvoServo(const ServoConfig& config, double period_s);
   /// \brief At rest at \p position (both axes) before a job.
   void reset(const Eigen::Vector2d& position);
@@ -102,7 +115,8 @@ public:
   /// State is kept across calls (chunk invariant).
   /// \throws ConfigError if the chunk's period_s differs from the servo's
   JointChunk process(const SetpointChunk& setpoint);
-  /// \brief Delay of the actual path behind the setpoint at low frequency, per axis [s].
+  /// \brief Delay of the actual path behind the setpoint at low frequency, per axis [s]
+  /// (cascade: ≈ 0 with the feedforward, see CascadeAxis::lowFrequencyDelay).
   Eigen::Vector2d lowFrequencyDelay() const;
 
 private:
@@ -110,6 +124,7 @@ private:
   double period_s_;
   std::array<std::unique_ptr<AxisModel>, 2> axes_;
   std::array<ClosedLoopAxis*, 2> closed_loop_{{nullptr, nullptr}};  ///< the same axes when closed-loop (final: calls devirtualised), else null
+  std::array<CascadeAxis*, 2> cascade_{{nullptr, nullptr}};  ///< the same axes when cascade, else null
   Eigen::Vector2d delay_;
 };
 }  // namespace scanhead
