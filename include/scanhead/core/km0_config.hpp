@@ -59,19 +59,19 @@ struct Km0Limit
 struct Km0Thresholds
 {
   // small steps (speed not saturated)
-  Km0Limit small_start_delay_s{1.1e-4, 1.8e-4};
-  Km0Limit small_overshoot_pct{44.6, 54.6};
-  Km0Limit small_settling_time_s{2.0e-3, 3.4e-3};
+  Km0Limit small_start_delay_s{5.8e-5, 9.7e-5};
+  Km0Limit small_overshoot_pct{10.7, 20.7};
+  Km0Limit small_settling_time_s{6.7e-4, 1.1e-3};
   Km0Limit small_static_error_deg{1.0e-3, 5.0e-3};
   // large steps (speed saturated)
-  Km0Limit large_start_delay_s{5.4e-5, 8.9e-5};
-  Km0Limit large_overshoot_pct{10.2, 20.2};
-  Km0Limit large_settling_excess_s{3.6e-4, 6.0e-4};  ///< settling time − |A|/max_speed [s]
-  Km0Limit large_static_error_deg{2.0e-3, 5.0e-3};
+  Km0Limit large_start_delay_s{3.0e-5, 5.1e-5};
+  Km0Limit large_overshoot_pct{5.8, 15.8};
+  Km0Limit large_settling_excess_s{2.0e-4, 5.0e-4};  ///< settling time − |A|/max_speed [s]
+  Km0Limit large_static_error_deg{1.7e-3, 5.0e-3};
   // ramps
-  Km0Limit ramp_lag_s{5.9e-5, 9.8e-5};          ///< following error / speed [s]
+  Km0Limit ramp_lag_s{6.0e-5, 1.0e-4};          ///< following error / speed [s]
   Km0Limit ramp_speed_error_pct{0.5, 2.0};      ///< |steady − commanded| / commanded [%]
-  Km0Limit ramp_speed_settling_s{1.9e-3, 3.2e-3};  ///< ±5 % speed settling from the ramp start [s]
+  Km0Limit ramp_speed_settling_s{8.7e-4, 1.45e-3};  ///< ±5 % speed settling from the ramp start [s]
   Km0Limit ramp_friction_excess_pct{25.0, 60.0};   ///< (Kc·i − baseline(ω)) / baseline reference [%]
 
   void validate() const;
