@@ -7,12 +7,18 @@
 
 namespace scanhead
 {
-void requireSetting(bool ok, const std::string& field, const char* relation, double value)
+void failSetting(const std::string& field, const std::string& relation, double value)
 {
-  if (ok && !std::isinf(value))
-    return;
   std::ostringstream msg;
-  msg << field << " must be " << (std::isinf(value) ? "finite" : relation) << " (got " << value << ")";
+  msg << field << " must be " << relation << " (got " << value << ")";
   throw ConfigError(msg.str());
+}
+
+void requireSetting(bool ok, const std::string& field, const std::string& relation, double value)
+{
+  if (std::isinf(value))
+    failSetting(field, "finite", value);
+  if (!ok)
+    failSetting(field, relation, value);
 }
 }  // namespace scanhead

@@ -12,6 +12,7 @@
 #include <Eigen/Dense>
 
 #include "scanhead/core/batch_chain.hpp"
+#include "scanhead/core/config_check.hpp"
 #include "scanhead/core/errors.hpp"
 
 namespace scanhead
@@ -20,14 +21,6 @@ namespace
 {
 constexpr double kPi = 3.14159265358979323846;
 using Complex = std::complex<double>;
-
-template <typename T>
-[[noreturn]] void fail(const std::string& field, const std::string& rule, T value)
-{
-  std::ostringstream msg;
-  msg << "identification." << field << " must be " << rule << " (got " << value << ")";
-  throw ConfigError(msg.str());
-}
 
 bool positiveFinite(double v) { return v > 0.0 && std::isfinite(v); }
 
@@ -186,22 +179,22 @@ void IdentificationConfig::validate() const
 {
   prbs.validate("identification.prbs");
   if (!positiveFinite(sample_period_s))
-    fail("sample_period_s", "> 0", sample_period_s);
+    failSetting("identification.sample_period_s", "> 0", sample_period_s);
   if (settle_periods < 1)
-    fail("settle_periods", ">= 1", settle_periods);
+    failSetting("identification.settle_periods", ">= 1", settle_periods);
   if (averaged_periods < 1)
-    fail("averaged_periods", ">= 1", averaged_periods);
+    failSetting("identification.averaged_periods", ">= 1", averaged_periods);
   if (!(position_loop_hz >= 0.0) || !std::isfinite(position_loop_hz))
-    fail("position_loop_hz", ">= 0", position_loop_hz);
+    failSetting("identification.position_loop_hz", ">= 0", position_loop_hz);
   if (!std::isfinite(ramp_rad_per_s))
-    fail("ramp_rad_per_s", "finite", ramp_rad_per_s);
+    failSetting("identification.ramp_rad_per_s", "finite", ramp_rad_per_s);
   const double nyquist = 0.5 / sample_period_s;
   if (!positiveFinite(theta_fit_max_hz) || theta_fit_max_hz > nyquist)
-    fail("theta_fit_max_hz", "in (0, Nyquist " + num(nyquist) + " Hz]", theta_fit_max_hz);
+    failSetting("identification.theta_fit_max_hz", "in (0, Nyquist " + num(nyquist) + " Hz]", theta_fit_max_hz);
   if (!positiveFinite(current_fit_max_hz) || current_fit_max_hz > nyquist)
-    fail("current_fit_max_hz", "in (0, Nyquist " + num(nyquist) + " Hz]", current_fit_max_hz);
+    failSetting("identification.current_fit_max_hz", "in (0, Nyquist " + num(nyquist) + " Hz]", current_fit_max_hz);
   if (!positiveFinite(bode_check_max_hz))
-    fail("bode_check_max_hz", "> 0", bode_check_max_hz);
+    failSetting("identification.bode_check_max_hz", "> 0", bode_check_max_hz);
 }
 
 Complex TransferForms::tau2() const

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "scanhead/core/config_check.hpp"
 #include "scanhead/core/errors.hpp"
 
 namespace scanhead
@@ -22,23 +23,16 @@ const int kTaps[kMaxOrder + 1][4] = {
     {15, 14, 0, 0},   {16, 15, 13, 4},  {17, 14, 0, 0},   {18, 11, 0, 0},   {19, 6, 2, 1},
     {20, 17, 0, 0},   {21, 19, 0, 0},   {22, 21, 0, 0},   {23, 18, 0, 0},   {24, 23, 22, 17}};
 
-template <typename T>
-[[noreturn]] void fail(const std::string& field, const std::string& rule, T value)
-{
-  std::ostringstream msg;
-  msg << field << " must be " << rule << " (got " << value << ")";
-  throw ConfigError(msg.str());
-}
 }  // namespace
 
 void PrbsConfig::validate(const std::string& prefix) const
 {
   if (order < kMinOrder || order > kMaxOrder)
-    fail(prefix + ".order", "in [2, 24]", order);
+    failSetting(prefix + ".order", "in [2, 24]", order);
   if (clock_divider < 1)
-    fail(prefix + ".clock_divider", ">= 1", clock_divider);
+    failSetting(prefix + ".clock_divider", ">= 1", clock_divider);
   if (!(amplitude > 0.0) || !std::isfinite(amplitude))
-    fail(prefix + ".amplitude", "> 0 and finite", amplitude);
+    failSetting(prefix + ".amplitude", "> 0 and finite", amplitude);
 }
 
 Prbs::Prbs(const PrbsConfig& config) : config_(config)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "scanhead/core/config_check.hpp"
 #include "scanhead/core/errors.hpp"
 
 namespace scanhead
@@ -79,23 +80,16 @@ std::vector<Complex> bluestein(const std::vector<Complex>& x)
   return out;
 }
 
-template <typename T>
-[[noreturn]] void fail(const std::string& field, const std::string& rule, T value)
-{
-  std::ostringstream msg;
-  msg << field << " must be " << rule << " (got " << value << ")";
-  throw ConfigError(msg.str());
-}
 }  // namespace
 
 void WelchConfig::validate(const std::string& prefix) const
 {
   if (segment_length < 8)
-    fail(prefix + ".segment_length", ">= 8", segment_length);
+    failSetting(prefix + ".segment_length", ">= 8", segment_length);
   if (overlap >= segment_length)
-    fail(prefix + ".overlap", "< segment_length (" + std::to_string(segment_length) + ")", overlap);
+    failSetting(prefix + ".overlap", "< segment_length (" + std::to_string(segment_length) + ")", overlap);
   if (!(sample_period_s > 0.0) || !std::isfinite(sample_period_s))
-    fail(prefix + ".sample_period_s", "> 0", sample_period_s);
+    failSetting(prefix + ".sample_period_s", "> 0", sample_period_s);
 }
 
 std::vector<Complex> discreteFourierTransform(const std::vector<Complex>& x)

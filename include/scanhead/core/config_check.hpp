@@ -9,5 +9,9 @@ namespace scanhead
 /// \brief Throws ConfigError "<field> must be <relation> (got <value>)" unless \p ok, and
 /// "<field> must be finite (got inf)" for an infinite value. Write \p ok as a comparison that NaN
 /// fails (e.g. `x > 0`), so NaN is rejected with the relation it broke.
-void requireSetting(bool ok, const std::string& field, const char* relation, double value);
+void requireSetting(bool ok, const std::string& field, const std::string& relation, double value);
+
+/// \brief Throws ConfigError "<field> must be <relation> (got <value>)" (for checks requireSetting
+/// cannot express, e.g. integer settings or relations between fields).
+[[noreturn]] void failSetting(const std::string& field, const std::string& relation, double value);
 }  // namespace scanhead
