@@ -9,8 +9,8 @@ export ROS_MASTER_URI="http://127.0.0.1:$((20000 + $$ % 10000))"
 rm -rf build/scanhead/test_results
 if ! colcon test --event-handlers console_direct- --return-code-on-test-failure --ctest-args --output-on-failure; then
   colcon test-result --verbose --test-result-base build/scanhead/test_results || true
-  echo "FAILED tests (CTest numbering):"
-  cat build/scanhead/Testing/Temporary/LastTestsFailed.log 2>/dev/null || true
+  echo "FAILED tests:"
+  grep -E '\*\*\*(Failed|Timeout|Exception)' log/latest_test/scanhead/stdout_stderr.log || true
   echo "full output: log/latest_test/scanhead/stdout_stderr.log"
   exit 1
 fi

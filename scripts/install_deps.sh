@@ -9,6 +9,7 @@ packages=(
   libsensor-msgs-dev libtrajectory-msgs-dev libvisualization-msgs-dev libnav-msgs-dev
   python3-rosbag python3-roslaunch python3-rostest python3-rosnode python3-rostopic rosbash
   ros-robot-state-publisher python3-matplotlib python3-numpy python3-yaml python3-pil rviz
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -20,6 +20,12 @@ namespace
 template <class Config, class F>
 void visitSettings(Config& c, F&& f)
 {
+  f("cam.layer", c.cam.layer);
+  f("cam.units", c.cam.units);
+  f("cam.mark_speed_mps", c.cam.mark_speed_mps);
+  f("cam.jump_speed_mps", c.cam.jump_speed_mps);
+  f("cam.mark_power_w", c.cam.mark_power_w);
+  f("cam.shape_file", c.cam.shape_file);
   f("stream.chunk_samples", c.stream.chunk_samples);
   f("stream.window_chunks", c.stream.window_chunks);
   f("nc.period_s", c.nc.period_s);
@@ -293,8 +299,19 @@ void StreamConfig::validate() const
   requireSetting(window_chunks >= 1, "stream.window_chunks", ">= 1", static_cast<double>(window_chunks));
 }
 
+void CamConfig::validate() const
+{
+  requireSetting(layer >= -1, "cam.layer", ">= -1 (-1: all layers)", layer);
+  if (units != "m" && units != "mm")
+    throw ConfigError("cam.units must be m or mm (got '" + units + "')");
+  requireSetting(mark_speed_mps > 0.0, "cam.mark_speed_mps", "> 0", mark_speed_mps);
+  requireSetting(jump_speed_mps > 0.0, "cam.jump_speed_mps", "> 0", jump_speed_mps);
+  requireSetting(mark_power_w >= 0.0, "cam.mark_power_w", ">= 0", mark_power_w);
+}
+
 void ChainConfig::validate() const
 {
+  cam.validate();
   stream.validate();
   nc.validate();
   servo.validate();

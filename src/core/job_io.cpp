@@ -15,6 +15,13 @@ namespace scanhead
 {
 namespace
 {
+std::string format(double v)
+{
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  return buffer;
+}
+
 std::string at(const std::string& source, const YAML::Node& node)
 {
   return source + ":" + std::to_string(node.Mark().line + 1);
@@ -53,7 +60,7 @@ Polyline parsePolyline(const YAML::Node& node, const std::string& source, const 
 {
   if (!node.IsMap())
     throw InputError(at(source, node) + ": " + field + ": expected a map with type, speed, power, points");
-  checkKeys(node, {"type", "speed", "power", "points"}, source, field + ": ");
+  checkKeys(node, {"type", "speed", "power", "points", "dwell"}, source, field + ": ");
   Polyline line;
   const YAML::Node type = node["type"];
   if (!type)
@@ -65,10 +72,18 @@ Polyline parsePolyline(const YAML::Node& node, const std::string& source, const 
   else
     throw InputError(at(source, type) + ": " + field + ".type: '" + type.as<std::string>() +
                      "' is not mark or jump");
+  const YAML::Node dwell = node["dwell"];
+  if (dwell)
+  {
+    line.dwell_s = number(dwell, source, field + ".dwell");
+    if (line.dwell_s < 0.0)
+      throw InputError(at(source, dwell) + ": " + field + ".dwell must be >= 0 s (got " + format(line.dwell_s) + ")");
+  }
   const YAML::Node speed = node["speed"];
-  if (!speed)
+  if (speed)
+    line.speed_mps = number(speed, source, field + ".speed");
+  else if (!(line.dwell_s > 0.0))  // a dwell does not move: its speed is optional and unused
     throw InputError(at(source, node) + ": " + field + ".speed: missing (m/s)");
-  line.speed_mps = number(speed, source, field + ".speed");
   const YAML::Node power = node["power"];
   if (power)
     line.power_w = number(power, source, field + ".power");
@@ -86,13 +101,6 @@ Polyline parsePolyline(const YAML::Node& node, const std::string& source, const 
     line.points.emplace_back(number(p[0], source, pf + ".x"), number(p[1], source, pf + ".y"));
   }
   return line;
-}
-
-std::string format(double v)
-{
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", v);
-  return buffer;
 }
 
 std::string fieldOf(std::size_t polyline)
@@ -126,7 +134,10 @@ Job parseScanJobYaml(const std::string& yaml_text, const std::string& source)
     for (std::size_t i = 0; i < lines.size(); ++i)
     {
       Polyline line = parsePolyline(lines[i], source, fieldOf(i));
-      if (line.points.size() < 2)
+      if (line.dwell_s > 0.0 && line.points.size() != 1)
+        throw InputError(at(source, lines[i]) + ": " + fieldOf(i) + ".points: a dwell needs exactly 1 point (got " +
+                         std::to_string(line.points.size()) + ")");
+      if (!(line.dwell_s > 0.0) && line.points.size() < 2)
         throw InputError(at(source, lines[i]) + ": " + fieldOf(i) + ".points: needs at least 2 points (got " +
                          std::to_string(line.points.size()) + ")");
       job.polylines.push_back(std::move(line));
@@ -157,11 +168,16 @@ void validateScanJob(const Job& job, double field_half_width_m)
   {
     const Polyline& line = job.polylines[i];
     const std::string field = job.source + ": " + fieldOf(i);
-    if (!std::isfinite(line.speed_mps) || line.speed_mps <= 0.0)
+    if (!std::isfinite(line.dwell_s) || line.dwell_s < 0.0)
+      throw InputError(field + ".dwell must be >= 0 s (got " + format(line.dwell_s) + ")");
+    const bool dwell = line.dwell_s > 0.0;
+    if (!dwell && (!std::isfinite(line.speed_mps) || line.speed_mps <= 0.0))
       throw InputError(field + ".speed must be > 0 m/s (got " + format(line.speed_mps) + ")");
     if (!std::isfinite(line.power_w) || line.power_w < 0.0)
       throw InputError(field + ".power must be >= 0 W (got " + format(line.power_w) + ")");
-    if (line.points.size() < 2)
+    if (dwell && line.points.size() != 1)
+      throw InputError(field + ".points: a dwell needs exactly 1 point (got " + std::to_string(line.points.size()) + ")");
+    if (!dwell && line.points.size() < 2)
       throw InputError(field + ".points: needs at least 2 points (got " + std::to_string(line.points.size()) + ")");
     for (std::size_t k = 0; k < line.points.size(); ++k)
     {
@@ -185,6 +201,8 @@ std::string scanJobToYaml(const Job& job)
     out << "  - type: " << (line.type == PolylineType::Mark ? "mark" : "jump") << "\n";
     out << "    speed: " << format(line.speed_mps) << "\n";
     out << "    power: " << format(line.power_w) << "\n";
+    if (line.dwell_s != 0.0)
+      out << "    dwell: " << format(line.dwell_s) << "\n";
     out << "    points: [";
     for (std::size_t k = 0; k < line.points.size(); ++k)
       out << (k ? ", " : "") << "[" << format(line.points[k].x()) << ", " << format(line.points[k].y()) << "]";

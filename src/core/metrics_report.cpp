@@ -1,5 +1,6 @@
 #include "scanhead/core/metrics_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -69,7 +70,8 @@ std::string metricsTable(const RunMetrics& m)
     return out;
   out += "corner  angle   speed  |        min speed [mm/s]             |       contour error [um]\n"
          "        [deg]   [mm/s] | setpoint  actual  theory  sp/theory | setpoint  actual  theory  sp/theory\n";
-  for (std::size_t i = 0; i < m.corners.size(); ++i)
+  constexpr std::size_t kShownCorners = 10;  // the rest are in metrics.yaml
+  for (std::size_t i = 0; i < std::min(m.corners.size(), kShownCorners); ++i)
   {
     const CornerReport& c = m.corners[i];
     std::snprintf(line, sizeof line, "%-6zu  %6.2f  %6.0f | %8.1f  %6.1f  %6.1f  %+7.2f %% | %8.2f  %6.2f  %6.2f  %+7.2f %%\n", i,
@@ -80,6 +82,9 @@ std::string metricsTable(const RunMetrics& m)
                   100.0 * relative(c.setpoint.max_contour_error_m, c.theory.max_contour_error_m));
     out += line;
   }
+  if (m.corners.size() > kShownCorners)
+    out += "... " + std::to_string(m.corners.size() - kShownCorners) +
+           " more corners in metrics.yaml (the closed forms assume legs longer than the filters)\n";
   return out;
 }
 }  // namespace scanhead

@@ -36,7 +36,21 @@ PathTimeline::PathTimeline(const Job& job, double implicit_jump_speed_mps)
     {
       continue;
     }
-    if (!(std::isfinite(line.speed_mps) && line.speed_mps > 0.0))
+    if (!(std::isfinite(line.dwell_s) && line.dwell_s >= 0.0))
+    {
+      std::ostringstream msg;
+      msg << "job '" << job.name << "': polyline " << p << " dwell_s must be >= 0 (got " << line.dwell_s << ")";
+      throw InputError(msg.str());
+    }
+    const bool dwell = line.dwell_s > 0.0;
+    if (dwell && line.points.size() != 1)
+    {
+      std::ostringstream msg;
+      msg << "job '" << job.name << "': polyline " << p << " is a dwell: it needs exactly 1 point (got "
+          << line.points.size() << ")";
+      throw InputError(msg.str());
+    }
+    if (!dwell && !(std::isfinite(line.speed_mps) && line.speed_mps > 0.0))
     {
       std::ostringstream msg;
       msg << "job '" << job.name << "': polyline " << p << " speed_mps must be > 0 (got " << line.speed_mps << ")";
@@ -74,6 +88,21 @@ PathTimeline::PathTimeline(const Job& job, double implicit_jump_speed_mps)
       appendSegment(segments_, t_s, jump);
     }
     const bool mark = (line.type == PolylineType::Mark);
+    if (dwell)
+    {
+      // A spot: zero length, lasts dwell_s, at the polyline's power (the laser gate reads it).
+      PathSegment seg;
+      seg.start_m = line.points.front();
+      seg.end_m = line.points.front();
+      seg.mark = mark;
+      seg.power_w = mark ? line.power_w : 0.0;
+      seg.dwell = true;
+      seg.polyline = p;
+      seg.duration_s = line.dwell_s;
+      seg.t_start_s = t_s;
+      t_s += seg.duration_s;
+      segments_.push_back(seg);
+    }
     for (std::size_t v = 0; v + 1 < line.points.size(); ++v)
     {
       PathSegment seg;

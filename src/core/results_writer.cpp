@@ -11,6 +11,8 @@
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/job_io.hpp"
+#include "scanhead/core/job_picture.hpp"
+#include "scanhead/core/job_stats.hpp"
 #include "scanhead/core/metrics_report.hpp"
 #include "scanhead/core/png_writer.hpp"
 
@@ -74,6 +76,8 @@ void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, 
     writeText(tmp / "metrics.yaml", metricsToYaml(metrics));
     writeText(tmp / "config.yaml", chainConfigToYaml(config));
     writeText(tmp / "job.yaml", scanJobToYaml(job));
+    writeText(tmp / "job_stats.yaml", jobStatsYaml(computeJobStats(job, config.nc.implicit_jump_speed_mps)));
+    writeJobPicture((tmp / "job.png").string(), job, 1600);
     writeText(tmp / "trace.csv", energy.trace().csv(config.nc.period_s));
     EnergyImageLayout layout;
     writePng((tmp / "energy_map.png").string(), renderEnergyMap(energy.map(), 0.0, kMaxImageSide, &layout));

@@ -13,6 +13,7 @@ std::vector<Corner> findCorners(const Job& job, double min_angle_rad, double imp
   // The NC's own timeline (implicit jumps included, zero-length edges skipped), so time_s is
   // exactly when the NC's X_inter passes the vertex. A corner joins two consecutive non-zero
   // edges of the same MARK polyline; with repeated points, vertex is the start of the outgoing edge.
+  // Dwells (spots, zero length) have no direction: never a corner.
   const PathTimeline timeline(job, implicit_jump_speed_mps);
   const std::vector<PathSegment>& segs = timeline.segments();
   std::vector<Corner> corners;
@@ -20,7 +21,8 @@ std::vector<Corner> findCorners(const Job& job, double min_angle_rad, double imp
   {
     const PathSegment& in = segs[k - 1];
     const PathSegment& out = segs[k];
-    if (!in.mark || !out.mark || in.implicit_jump || out.implicit_jump || in.polyline != out.polyline)
+    if (!in.mark || !out.mark || in.implicit_jump || out.implicit_jump || in.dwell || out.dwell ||
+        in.polyline != out.polyline)
     {
       continue;
     }

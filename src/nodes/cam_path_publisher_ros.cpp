@@ -2,7 +2,7 @@
 
 #include "ros_config.hpp"
 #include "ros_conversions.hpp"
-#include "scanhead/core/builtin_jobs.hpp"
+#include "scanhead/core/job_files.hpp"
 #include "scanhead/core/job_io.hpp"
 
 namespace scanhead
@@ -26,7 +26,7 @@ bool CamPathPublisherNode::publishJob(const std::string& job_argument)
 {
   try
   {
-    Job job = resolveJob(job_argument);
+    Job job = loadJob(job_argument, config_.cam);
     validateScanJob(job, config_.optics.field_half_width_m);
     const std::uint32_t id = next_job_id_++;
     job_pub_.publish(toMsg(job, id));

@@ -56,6 +56,7 @@ Job fromMsg(const ScanJob& msg)
     line.type = p.type == ScanPolyline::JUMP ? PolylineType::Jump : PolylineType::Mark;
     line.speed_mps = p.speed;
     line.power_w = p.power;
+    line.dwell_s = p.dwell;
     for (std::size_t k = 0; k < p.x.size(); ++k)
       line.points.emplace_back(p.x[k], p.y[k]);
     job.polylines.push_back(std::move(line));
@@ -75,6 +76,7 @@ ScanJob toMsg(const Job& job, std::uint32_t job_id)
     p.type = line.type == PolylineType::Jump ? ScanPolyline::JUMP : ScanPolyline::MARK;
     p.speed = line.speed_mps;
     p.power = line.power_w;
+    p.dwell = line.dwell_s;
     for (const Eigen::Vector2d& q : line.points)
     {
       p.x.push_back(q.x());

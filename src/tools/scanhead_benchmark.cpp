@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/builtin_jobs.hpp"
+#include "scanhead/core/job_files.hpp"
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/job_io.hpp"
 
@@ -82,7 +82,7 @@ std::vector<double> timedRun(const ChainConfig& config, const OpticalModel& opti
 
 void benchmark(const ChainConfig& config, const OpticalModel& optics, const std::string& spec, int repeat)
 {
-  const Job job = resolveJob(spec);
+  const Job job = loadJob(spec, config.cam);
   validateScanJob(job, config.optics.field_half_width_m);
   std::vector<Stats> stats(6);
   std::uint64_t samples = 0;

@@ -6,21 +6,21 @@
 #include <vector>
 
 #include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/builtin_jobs.hpp"
+#include "scanhead/core/job_files.hpp"
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/job_io.hpp"
+#include "scanhead/core/job_stats.hpp"
 #include "scanhead/core/metrics_report.hpp"
 #include "scanhead/core/results_writer.hpp"
 
 namespace
 {
-const char* kUsage =
-    "usage: scanhead_run [--job FILE|BUILTIN] [--out DIR] [--config FILE] [--set section.key=value ...] [--quiet]\n"
-    "  --job     a job YAML file, or a built-in job (default: corner):\n"
-    "              corner[:speed=2,angle=53.13,leg=0.004,power=200]\n"
-    "              hatch[:size=0.005,spacing=0.0001,speed=1,jump_speed=4.5,power=200]\n"
-    "  --out     results folder to write (metrics.yaml, energy map, plots); default: results/<job>\n"
+const std::string kUsage =
+    "usage: scanhead_run [--job JOB] [--out DIR] [--config FILE] [--set section.key=value ...] [--quiet]\n"
+    "  --job     " + scanhead::jobFormatsHelp() + "\n"
+    "            (default: corner); CLI files: --set cam.layer=N (-1: all); segment files: --set cam.units=mm\n"
+    "  --out     results folder to write (metrics.yaml, energy map, plots, job statistics); default: results/<job>\n"
     "  --config  configuration YAML (default: the package's config/scanhead.yaml)\n"
     "  --set     override one setting, e.g. --set nc.fir_t1_s=300e-6 (repeatable)\n";
 
@@ -74,9 +74,16 @@ int main(int argc, char** argv)
     const Arguments args = parse(argc, argv);
     const ChainConfig config = loadChainConfig(resolvePackagePath(args.config), args.overrides);
     const OpticalModel optics = loadOpticalModel(config.optics);
-    Job job = resolveJob(args.job);
+    Job job = loadJob(args.job, config.cam);
     validateScanJob(job, config.optics.field_half_width_m);
     const std::string out = args.out.empty() ? "results/" + job.name : args.out;
+    if (!args.quiet)
+    {
+      const JobStats stats = computeJobStats(job, config.nc.implicit_jump_speed_mps);
+      std::printf("job %s: %zu marks (%.3f mm), %zu jumps (%.3f mm), ideal time %.3f ms, laser energy %.4g J\n",
+                  job.name.c_str(), stats.mark_count, stats.mark_length_m * 1e3, stats.jump_count,
+                  stats.jump_length_m * 1e3, stats.ideal_time_s * 1e3, stats.laser_on_energy_j);
+    }
 
     BatchChain chain(config, optics);
     int last_percent = -1;

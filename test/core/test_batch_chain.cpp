@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/builtin_jobs.hpp"
+#include "scanhead/core/job_files.hpp"
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/job_io.hpp"
 #include "scanhead/core/metrics_report.hpp"
@@ -25,7 +25,7 @@ ChainRun runJob(const std::string& job_spec, const std::vector<std::string>& ove
 {
   const ChainConfig config = loadChainConfig(kConfig, overrides);
   const OpticalModel optics = loadOpticalModel(config.optics);
-  const Job job = resolveJob(job_spec);
+  const Job job = loadJob(job_spec, config.cam);
   validateScanJob(job, config.optics.field_half_width_m);
   BatchChain chain(config, optics);
   ChainRun run;

@@ -1,7 +1,10 @@
 // Job files: parsing, validation errors that name the file, line and field, round trip.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "scanhead/core/builtin_jobs.hpp"
+#include "scanhead/core/job_files.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/job_io.hpp"
 
@@ -92,6 +95,57 @@ TEST(JobIo, ValidationNamesThePolylineAndValue)
         "polylines[0].points[1] = (0.20000000000000001, 0) m lies outside the field");
 }
 
+// Dwells (spots): key `dwell` in s, exactly one point, speed optional; validation and round trip.
+TEST(JobIo, DwellPolylines)
+{
+  const Job j = parseScanJobYaml(job("{type: mark, power: 100, dwell: 0.001, points: [[0.001, 0]]}"), "d.yaml");
+  ASSERT_EQ(j.polylines.size(), 1u);
+  EXPECT_EQ(j.polylines[0].dwell_s, 0.001);
+  EXPECT_EQ(j.polylines[0].power_w, 100.0);
+  ASSERT_EQ(j.polylines[0].points.size(), 1u);
+  EXPECT_NO_THROW(validateScanJob(j, 0.175));
+  const Job back = parseScanJobYaml(scanJobToYaml(j), "rt.yaml");
+  EXPECT_EQ(back.polylines[0].dwell_s, 0.001);
+  EXPECT_EQ(back.polylines[0].points, j.polylines[0].points);
+  // a line has no dwell key on output
+  EXPECT_EQ(scanJobToYaml(builtinJob("corner")).find("dwell"), std::string::npos);
+
+  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, power: 1, dwell: 0.001, points: [[0,0],[1e-3,0]]}"), "f.yaml"); })
+                .find("f.yaml:3: polylines[0].points: a dwell needs exactly 1 point (got 2)"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, power: 1, dwell: -1, points: [[0,0]]}"), "f.yaml"); })
+                .find("f.yaml:3: polylines[0].dwell must be >= 0 s (got -1)"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, power: 1, dwell: 1e999, points: [[0,0]]}"), "f.yaml"); })
+                .find("polylines[0].dwell: '1e999' is not a finite number"),
+            std::string::npos);
+  // dwell 0 is a line: one point is not enough, and the speed is required
+  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, speed: 1, power: 1, dwell: 0, points: [[0,0]]}"), "f.yaml"); })
+                .find("polylines[0].points: needs at least 2 points (got 1)"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, power: 1, points: [[0,0],[1e-3,0]]}"), "f.yaml"); })
+                .find("polylines[0].speed: missing (m/s)"),
+            std::string::npos);
+
+  auto invalid = [](void (*edit)(Polyline&)) {
+    Job k = parseScanJobYaml(job("{type: mark, power: 1, dwell: 0.001, points: [[0,0]]}"), "v.yaml");
+    edit(k.polylines[0]);
+    return errorOf([&] { validateScanJob(k, 0.175); });
+  };
+  EXPECT_NE(invalid([](Polyline& p) { p.dwell_s = -2.0; }).find("v.yaml: polylines[0].dwell must be >= 0 s (got -2)"),
+            std::string::npos);
+  EXPECT_NE(invalid([](Polyline& p) { p.dwell_s = std::nan(""); }).find("polylines[0].dwell must be >= 0 s (got nan)"),
+            std::string::npos);
+  EXPECT_NE(invalid([](Polyline& p) { p.points.push_back({1e-3, 0}); })
+                .find("polylines[0].points: a dwell needs exactly 1 point (got 2)"),
+            std::string::npos);
+  EXPECT_NE(invalid([](Polyline& p) { p.dwell_s = 0.0; }).find("polylines[0].points: needs at least 2 points (got 1)"),
+            std::string::npos);
+  EXPECT_EQ(invalid([](Polyline& p) { p.speed_mps = 0.0; }), "");  // a dwell's speed is unused
+  EXPECT_NE(invalid([](Polyline& p) { p.points[0] = {0.2, 0}; }).find("polylines[0].points[0] = (0.20000000000000001, 0) m"),
+            std::string::npos);
+}
+
 TEST(BuiltinJobs, CornerGeometry)
 {
   const Job j = builtinJob("corner:speed=2,angle=53.13");
@@ -102,6 +156,6 @@ TEST(BuiltinJobs, CornerGeometry)
   EXPECT_NEAR(p[2].x(), 0.0024, 1e-7);
   EXPECT_NEAR(p[2].y(), 0.0032, 1e-7);
   EXPECT_NE(errorOf([] { builtinJob("corner:sped=2"); }).find("unknown key 'sped'"), std::string::npos);
-  EXPECT_NE(errorOf([] { resolveJob("square"); }).find("no built-in job named 'square'"), std::string::npos);
-  EXPECT_NE(errorOf([] { resolveJob("/no/such/job.yaml"); }).find("cannot open the job file"), std::string::npos);
+  EXPECT_NE(errorOf([] { loadJob("square", CamConfig{}); }).find("no built-in job named 'square'"), std::string::npos);
+  EXPECT_NE(errorOf([] { loadJob("/no/such/job.yaml", CamConfig{}); }).find("cannot open the job file"), std::string::npos);
 }

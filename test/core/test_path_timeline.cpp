@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/path_timeline.hpp"
@@ -199,4 +200,82 @@ TEST(FindCorners, TimesAnglesAndWindows)
   Job straight;
   straight.polylines.push_back(line(PolylineType::Mark, 1.0, 1.0, {{0, 0}, {1e-3, 1e-3}, {2e-3, 2e-3}}));
   EXPECT_TRUE(scanhead::findCorners(straight, 0.0, kJumpSpeed).empty());
+}
+
+// A dwell (a spot): one segment of zero length lasting dwell_s at its point, with the polyline's
+// power; implicit jumps lead to it and away as for any polyline. Sampled at 100 kHz, the laser
+// is on at 100 W for 1 ms ± 1 sample (the sample grid against the two ends) and every sample in
+// the dwell is exactly at the point; the duration is Σ L/v + the dwell.
+TEST(PathTimeline, DwellIsASpotOfItsDuration)
+{
+  const Eigen::Vector2d spot(1e-3, 0.5e-3);
+  Job job;
+  job.name = "dwell";
+  job.polylines.push_back(line(PolylineType::Mark, 1.0, 200.0, {{0.0, 0.0}, {0.7e-3, 0.0}}));
+  Polyline dwell = line(PolylineType::Mark, 0.0, 100.0, {spot});  // speed unused by a dwell
+  dwell.dwell_s = 1e-3;
+  job.polylines.push_back(dwell);
+  job.polylines.push_back(line(PolylineType::Mark, 2.0, 200.0, {spot, {2e-3, 0.5e-3}}));
+  const PathTimeline tl(job, kJumpSpeed);
+  ASSERT_EQ(tl.segments().size(), 4u);  // mark, implicit jump, dwell, mark (contiguous)
+  EXPECT_TRUE(tl.segments()[1].implicit_jump);
+  const auto& d = tl.segments()[2];
+  EXPECT_TRUE(d.dwell);
+  EXPECT_TRUE(d.mark);
+  EXPECT_EQ(d.start_m, spot);
+  EXPECT_EQ(d.end_m, spot);
+  EXPECT_EQ(d.length_m, 0.0);
+  EXPECT_EQ(d.duration_s, 1e-3);
+  EXPECT_EQ(d.power_w, 100.0);
+  EXPECT_EQ(d.polyline, 1u);
+  const double jump = Eigen::Vector2d(0.3e-3, 0.5e-3).norm() / kJumpSpeed;
+  // duration: 4 terms rounded in double, 1e-18 s (≈ 4 × 1.1e-16 × 2.4e-3 s)
+  EXPECT_NEAR(tl.duration(), 0.7e-3 / 1.0 + jump + 1e-3 + 1e-3 / 2.0, 1e-18);
+  EXPECT_EQ(tl.segments()[3].t_start_s, d.t_start_s + 1e-3);
+
+  const double ts = 1e-5;
+  PathTimeline::Cursor pc;
+  PathTimeline::Cursor lc;
+  int on_100 = 0;
+  int in_dwell = 0;
+  for (int n = 0; static_cast<double>(n) * ts < tl.duration() + 1e-4; ++n)
+  {
+    const double t = static_cast<double>(n) * ts;
+    const double p = tl.powerAt(t, lc);
+    if (p == 100.0)
+      ++on_100;
+    if (t >= d.t_start_s && t < d.t_start_s + d.duration_s)
+    {
+      ++in_dwell;
+      EXPECT_EQ(tl.positionAt(t, pc), spot) << "t = " << t;
+      EXPECT_EQ(p, 100.0);
+    }
+  }
+  EXPECT_NEAR(on_100, 100, 1);
+  EXPECT_EQ(on_100, in_dwell);
+  // no corner at a dwell (zero length: no direction), none in these straight marks
+  EXPECT_TRUE(scanhead::findCorners(job, 0.0, kJumpSpeed).empty());
+
+  // a dwell on a JUMP polyline waits with the laser off
+  job.polylines[1].type = PolylineType::Jump;
+  const PathTimeline off(job, kJumpSpeed);
+  PathTimeline::Cursor oc;
+  EXPECT_EQ(off.powerAt(off.segments()[2].t_start_s + 0.5e-3, oc), 0.0);
+  EXPECT_EQ(off.duration(), tl.duration());
+}
+
+TEST(PathTimeline, RejectsBadDwells)
+{
+  Job job;
+  job.name = "bad dwell";
+  job.polylines.push_back(line(PolylineType::Mark, 1.0, 1.0, {{0, 0}}));
+  for (const double bad : {-1e-3, std::nan(""), std::numeric_limits<double>::infinity()})
+  {
+    job.polylines[0].dwell_s = bad;
+    EXPECT_THROW(PathTimeline(job, kJumpSpeed), scanhead::InputError) << bad;
+  }
+  job.polylines[0].dwell_s = 1e-3;
+  EXPECT_NO_THROW(PathTimeline(job, kJumpSpeed));
+  job.polylines[0].points.push_back({1e-3, 0});  // a dwell has exactly one point
+  EXPECT_THROW(PathTimeline(job, kJumpSpeed), scanhead::InputError);
 }

@@ -39,7 +39,7 @@ TEST(ResultsWriter, WritesEveryFileAndReplacesItsOwnFolder)
   Fixture f;
   const fs::path dir = freshDir("ok");
   writeResultsFolder(dir.string(), f.metrics, f.chain.energy(), f.config, f.job);
-  for (const char* name : {"metrics.yaml", "config.yaml", "job.yaml", "trace.csv", "energy_map.png",
+  for (const char* name : {"metrics.yaml", "config.yaml", "job.yaml", "job_stats.yaml", "job.png", "trace.csv", "energy_map.png",
                            "energy_map_16bit.png", "energy_map.yaml", kResultsMarker})
     EXPECT_TRUE(fs::exists(dir / name)) << name;
   // PNG signature on the images.

@@ -7,7 +7,7 @@
 
 #include "ros_config.hpp"
 #include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/builtin_jobs.hpp"
+#include "scanhead/core/job_files.hpp"
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/metrics_report.hpp"
 
@@ -45,7 +45,7 @@ TEST(GraphMatchesBatch, IdenticalMetrics)
   private_nh.param("job", job_spec, std::string("corner"));
   const auto optics = opticalModelFromParams(nh, config.optics);
   BatchChain chain(config, *optics);
-  const RunMetrics batch = chain.run(resolveJob(job_spec));
+  const RunMetrics batch = chain.run(loadJob(job_spec, config.cam));
   EXPECT_EQ(graph->metrics_yaml, metricsToYaml(batch));
   EXPECT_EQ(graph->samples, batch.samples);
 }

@@ -41,7 +41,7 @@ expect_error outside "polylines[0].points[1] = (0.5, 0) m lies outside the field
 job one_point '{type: mark, speed: 1, power: 1, points: [[0, 0]]}'
 expect_error one_point "polylines[0].points: needs at least 2 points (got 1)" --job "$tmp/one_point.yaml"
 expect_error missing_file "no_such.yaml: cannot open the job file" --job "$tmp/no_such.yaml"
-expect_error unknown_builtin "no such job file, and no built-in job named 'squares'" --job squares
+expect_error unknown_builtin "no such job file, and no built-in job named 'pentagons'" --job pentagons
 expect_error unknown_setting "unknown key 'nc.fir_t3_s'" --set nc.fir_t3_s=1
 expect_error bad_setting "nc.period_s (--set): 'fast' is not a number" --set nc.period_s=fast
 expect_error bad_range "nc.fir_t1_s must be >= 0" --set nc.fir_t1_s=-1e-5

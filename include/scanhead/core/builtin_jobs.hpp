@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "scanhead/core/scan_job.hpp"
+#include "scanhead/core/thesis_square_job.hpp"
 
 namespace scanhead
 {
@@ -18,13 +19,17 @@ Job makeCornerJob(double speed_mps, double angle_deg, double leg_m, double power
 Job makeHatchJob(double size_m, double spacing_m, double speed_mps, double jump_speed_mps, double power_w);
 
 /// \brief A built-in job by spec "name[:key=value,...]", e.g. "corner:speed=2,angle=108.43".
-/// Names: corner (default speed 2 m/s, angle 53.13°, leg 4 mm, power 200 W), hatch.
+/// Names: corner (default speed 2 m/s, angle 53.13°, leg 4 mm, power 200 W), hatch, squares.
 /// \throws InputError naming the unknown name or key
-Job builtinJob(const std::string& spec);
+/// \param[in] shape_file polygon file the generated fills use instead of a square or circle ("": none)
+Job builtinJob(const std::string& spec, const std::string& shape_file = "");
+
+/// \brief The THESIS square job of a "squares:..." spec, with the square of each polyline.
+SquareJob builtinSquareJob(const std::string& spec);
+
+/// \brief True if \p name (the part of a spec before ':') is a built-in job.
+bool isBuiltinJobName(const std::string& name);
 
 /// \brief Names of the built-in jobs with their keys, for help texts.
 std::vector<std::string> builtinJobHelp();
-
-/// \brief A job argument: a built-in spec if its name is built in, otherwise a YAML file path.
-Job resolveJob(const std::string& job_argument);
 }  // namespace scanhead

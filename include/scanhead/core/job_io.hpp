@@ -8,6 +8,10 @@
 ///     speed: 2.0          # m/s, > 0
 ///     power: 200.0        # W, >= 0 (optional on jumps)
 ///     points: [[-0.004, 0.0], [0.0, 0.0], [0.0024, 0.0032]]   # m, work-plane frame, >= 2 points
+///   - type: mark          # a spot: the laser stays at one point
+///     power: 150.0
+///     dwell: 0.001        # s, > 0; then exactly 1 point and speed is optional (unused)
+///     points: [[0.001, 0.0]]
 /// \endcode
 #pragma once
 
@@ -23,7 +27,8 @@ Job parseScanJobYaml(const std::string& yaml_text, const std::string& source);
 /// \brief Reads and parses a job file. \throws InputError
 Job loadScanJobFile(const std::string& path);
 
-/// \brief Checks speeds, powers, finiteness, point counts and that every point lies in the
+/// \brief Checks speeds (not on dwells), powers, dwell times (finite, >= 0), finiteness, point
+/// counts (>= 2, or exactly 1 for a dwell, dwell_s > 0) and that every point lies in the
 /// square field |x|, |y| <= \p field_half_width_m. \throws InputError naming the polyline and point
 void validateScanJob(const Job& job, double field_half_width_m);
 

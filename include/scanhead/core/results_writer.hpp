@@ -2,7 +2,8 @@
 /// \brief Writes a run's results folder atomically: built in a sibling temporary folder and
 /// renamed into place, so a failed run never leaves a half-written folder.
 ///
-/// Contents: metrics.yaml, config.yaml (the settings used), job.yaml, trace.csv (decimated spot
+/// Contents: metrics.yaml, config.yaml (the settings used), job.yaml, job_stats.yaml, job.png
+/// (marks and jumps), trace.csv (decimated spot
 /// stream), energy_map.png (colour map with a colour bar; scale in energy_map.yaml),
 /// energy_map_16bit.png (linear, 0..peak) and energy_map.yaml (geometry and scale).
 #pragma once

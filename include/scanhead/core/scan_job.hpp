@@ -17,9 +17,10 @@ enum class PolylineType
 struct Polyline
 {
   PolylineType type = PolylineType::Mark;
-  double speed_mps = 1.0;  ///< programmed tangential speed [m/s], > 0
+  double speed_mps = 1.0;  ///< programmed tangential speed [m/s], > 0 (unused by a dwell)
   double power_w = 0.0;    ///< laser power while marking [W], >= 0 (ignored on jumps)
-  std::vector<Eigen::Vector2d> points;  ///< vertices [m], work-plane frame, at least 2
+  std::vector<Eigen::Vector2d> points;  ///< vertices [m], work-plane frame, at least 2 (a dwell: exactly 1)
+  double dwell_s = 0.0;  ///< a spot: laser at this point for this long [s] (one point, MARK); 0: a line
 };
 
 /// \brief A scan job (the message scanhead/ScanJob carries the same on cam/job).

@@ -1,0 +1,211 @@
+// scanhead_job: scan jobs on their own — statistics, picture, conversion, reader speed.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "scanhead/core/batch_chain.hpp"
+#include "scanhead/core/builtin_jobs.hpp"
+#include "scanhead/core/cli_format.hpp"
+#include "scanhead/core/config_io.hpp"
+#include "scanhead/core/errors.hpp"
+#include "scanhead/core/job_files.hpp"
+#include "scanhead/core/job_io.hpp"
+#include "scanhead/core/job_picture.hpp"
+#include "scanhead/core/job_stats.hpp"
+#include "scanhead/core/segment_path.hpp"
+
+namespace
+{
+const char* kUsage =
+    "usage: scanhead_job COMMAND [JOB] [--config FILE] [--set section.key=value ...] [options]\n"
+    "commands:\n"
+    "  stats JOB                 statistics on the ideal timeline (YAML): lengths, counts, times, energy;\n"
+    "                            for the built-in squares job also the time of each square\n"
+    "  picture JOB --out F.png   the job drawn: marks dark blue, jumps grey dashed [--size PX, default 1600]\n"
+    "  convert JOB --out F       write the job as .yaml or .cli (ASCII; --binary for binary CLI)\n"
+    "                            [--units-mm U, CLI unit in mm, default 0.001]\n"
+    "  bench                     reading speed (MB/s) of each reader on a large generated job [--lines N]\n"
+    "JOB: a .yaml job, a .cli file (ASCII or binary), a segment scan-path file, or a built-in job\n"
+    "(corner, hatch, squares; see scanhead_run --help). --set cam.layer=N and cam.units=mm|m apply.\n";
+
+struct Arguments
+{
+  std::string command, job, out, config = "config/scanhead.yaml";
+  std::vector<std::string> overrides;
+  int size = 1600;
+  long lines = 20000;
+  bool binary = false;
+  double units_mm = 1e-3;
+};
+
+double numberArgument(const std::string& name, const std::string& text)
+{
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0' || !(value > 0.0))
+    throw scanhead::ConfigError(name + " must be a positive number (got '" + text + "')");
+  return value;
+}
+
+Arguments parse(int argc, char** argv)
+{
+  Arguments a;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string arg = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc)
+        throw scanhead::ConfigError(arg + " needs a value\n" + kUsage);
+      return argv[++i];
+    };
+    if (arg == "--help" || arg == "-h")
+    {
+      std::cout << kUsage;
+      std::exit(0);
+    }
+    else if (arg == "--out")
+      a.out = value();
+    else if (arg == "--config")
+      a.config = value();
+    else if (arg == "--set")
+      a.overrides.push_back(value());
+    else if (arg == "--size")
+      a.size = static_cast<int>(numberArgument(arg, value()));
+    else if (arg == "--lines")
+      a.lines = static_cast<long>(numberArgument(arg, value()));
+    else if (arg == "--units-mm")
+      a.units_mm = numberArgument(arg, value());
+    else if (arg == "--binary")
+      a.binary = true;
+    else if (arg.rfind("--", 0) == 0)
+      throw scanhead::ConfigError("unknown option '" + arg + "'\n" + kUsage);
+    else if (a.command.empty())
+      a.command = arg;
+    else if (a.job.empty())
+      a.job = arg;
+    else
+      throw scanhead::ConfigError("unexpected argument '" + arg + "'\n" + kUsage);
+  }
+  if (a.command != "stats" && a.command != "picture" && a.command != "convert" && a.command != "bench")
+    throw scanhead::ConfigError((a.command.empty() ? std::string("no command") : "unknown command '" + a.command + "'") +
+                                "\n" + kUsage);
+  if (a.command != "bench" && a.job.empty())
+    throw scanhead::ConfigError(a.command + " needs a JOB\n" + kUsage);
+  if ((a.command == "picture" || a.command == "convert") && a.out.empty())
+    throw scanhead::ConfigError(a.command + " needs --out FILE");
+  return a;
+}
+
+void writeFile(const std::string& path, const std::string& bytes)
+{
+  std::ofstream out(path, std::ios::binary);
+  out << bytes;
+  if (!out.good())
+    throw scanhead::InputError(path + ": cannot write");
+}
+
+bool endsWith(const std::string& text, const std::string& suffix)
+{
+  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+/// The same job as a segment scan-path file (mode 0 lines, mode 1 dwells), for the reader benchmark.
+std::string segmentText(const scanhead::Job& job)
+{
+  std::ostringstream rows;
+  std::size_t count = 0;
+  char line[160];
+  for (const auto& p : job.polylines)
+    for (std::size_t k = 0; k < p.points.size(); ++k)
+    {
+      const bool first = count == 0;
+      const double coefficient = p.type == scanhead::PolylineType::Mark && k > 0 ? 1.0 : 0.0;
+      std::snprintf(line, sizeof line, "%d %.9g %.9g 0 %g %.9g\n", first ? 1 : 0, p.points[k].x(), p.points[k].y(),
+                    coefficient, first ? 1e-6 : p.speed_mps);
+      rows << line;
+      ++count;
+    }
+  return "Number of path segments\n" + std::to_string(count) + "\nMode x y z pmod param\n" + rows.str();
+}
+
+template <class Read>
+void timeReader(const char* name, const std::string& bytes, Read&& read)
+{
+  using Clock = std::chrono::steady_clock;
+  read(bytes);  // warm-up
+  int runs = 0;
+  const auto start = Clock::now();
+  double elapsed = 0.0;
+  std::size_t polylines = 0;
+  while (elapsed < 1.0 || runs < 3)
+  {
+    polylines = read(bytes).polylines.size();
+    ++runs;
+    elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  std::printf("%-22s %8.1f MB in %5.3f s per read: %7.1f MB/s (%zu polylines, %d runs)\n", name, bytes.size() / 1e6,
+              elapsed / runs, bytes.size() / 1e6 / (elapsed / runs), polylines, runs);
+}
+
+void bench(long lines)
+{
+  using namespace scanhead;
+  const double size = 0.3;  // a 300 mm square hatched with `lines` lines
+  const Job job = builtinJob("hatch:size=" + std::to_string(size) + ",spacing=" + std::to_string(size / lines));
+  timeReader("YAML job", scanJobToYaml(job), [](const std::string& b) { return parseScanJobYaml(b, "bench.yaml"); });
+  CliReadOptions cli;
+  cli.layer = 0;
+  timeReader("CLI ASCII", writeCliAscii(job, 1e-3), [&](const std::string& b) { return parseCli(b, "bench.cli", cli); });
+  timeReader("CLI binary", writeCliBinary(job, 1e-3), [&](const std::string& b) { return parseCli(b, "bench.cli", cli); });
+  SegmentReadOptions seg;
+  timeReader("segment path", segmentText(job),
+             [&](const std::string& b) { return parseSegmentPath(b, "bench.txt", seg); });
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  using namespace scanhead;
+  try
+  {
+    const Arguments args = parse(argc, argv);
+    if (args.command == "bench")
+    {
+      bench(args.lines);
+      return 0;
+    }
+    const ChainConfig config = loadChainConfig(resolvePackagePath(args.config), args.overrides);
+    if (args.command == "stats")
+    {
+      if (args.job.substr(0, args.job.find(':')) == "squares")
+      {
+        const SquareJob squares = builtinSquareJob(args.job);
+        std::cout << jobStatsYaml(computeJobStats(squares.job, config.nc.implicit_jump_speed_mps, squares.square_of_polyline));
+      }
+      else
+        std::cout << jobStatsYaml(computeJobStats(loadJob(args.job, config.cam), config.nc.implicit_jump_speed_mps));
+      return 0;
+    }
+    const Job job = loadJob(args.job, config.cam);
+    if (args.command == "picture")
+      writeJobPicture(args.out, job, args.size);
+    else if (endsWith(args.out, ".cli"))
+      writeFile(args.out, args.binary ? writeCliBinary(job, args.units_mm) : writeCliAscii(job, args.units_mm));
+    else if (endsWith(args.out, ".yaml") || endsWith(args.out, ".yml"))
+      writeFile(args.out, scanJobToYaml(job));
+    else
+      throw ConfigError("--out must end in .yaml or .cli (got '" + args.out + "')");
+    std::cout << args.command << ": " << job.name << " -> " << args.out << "\n";
+    return 0;
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "scanhead_job: error: " << e.what() << "\n";
+    return 1;
+  }
+}
