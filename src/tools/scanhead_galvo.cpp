@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "argument_cursor.hpp"
 #include "scanhead/core/batch_chain.hpp"
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/errors.hpp"
@@ -37,38 +38,28 @@ struct Arguments
 Arguments parse(int argc, char** argv)
 {
   Arguments a;
-  for (int i = 1; i < argc; ++i)
+  scanhead::ArgumentCursor args(argc, argv, kUsage);
+  while (args.next())
   {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc)
-        throw scanhead::ConfigError(arg + " needs a value\n" + kUsage);
-      return argv[++i];
-    };
-    if (arg == "--help" || arg == "-h")
+    if (args.is("--axis"))
     {
-      std::cout << kUsage;
-      std::exit(0);
-    }
-    else if (arg == "--axis")
-    {
-      const std::string axis = value();
+      const std::string axis = args.value();
       if (axis != "x" && axis != "y")
         throw scanhead::ConfigError("--axis must be x or y (got '" + axis + "')");
       a.axis = axis == "x" ? 0 : 1;
     }
-    else if (arg == "--config")
-      a.config = value();
-    else if (arg == "--km0-config")
-      a.km0_config = value();
-    else if (arg == "--out")
-      a.out = value();
-    else if (arg == "--set")
-      a.overrides.push_back(value());
-    else if (a.command.empty() && arg.rfind("--", 0) != 0)
-      a.command = arg;
+    else if (args.is("--config"))
+      a.config = args.value();
+    else if (args.is("--km0-config"))
+      a.km0_config = args.value();
+    else if (args.is("--out"))
+      a.out = args.value();
+    else if (args.is("--set"))
+      a.overrides.push_back(args.value());
+    else if (a.command.empty() && !args.isOption())
+      a.command = args.arg();
     else
-      throw scanhead::ConfigError("unknown argument '" + arg + "'\n" + kUsage);
+      args.reject();
   }
   if (a.command != "loops" && a.command != "identify" && a.command != "km0")
     throw scanhead::ConfigError((a.command.empty() ? std::string("no command") : "unknown command '" + a.command + "'") +

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "argument_cursor.hpp"
 #include "scanhead/core/batch_chain.hpp"
 #include "scanhead/core/builtin_jobs.hpp"
 #include "scanhead/core/cli_format.hpp"
@@ -55,41 +56,31 @@ double numberArgument(const std::string& name, const std::string& text)
 Arguments parse(int argc, char** argv)
 {
   Arguments a;
-  for (int i = 1; i < argc; ++i)
+  scanhead::ArgumentCursor args(argc, argv, kUsage);
+  while (args.next())
   {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc)
-        throw scanhead::ConfigError(arg + " needs a value\n" + kUsage);
-      return argv[++i];
-    };
-    if (arg == "--help" || arg == "-h")
-    {
-      std::cout << kUsage;
-      std::exit(0);
-    }
-    else if (arg == "--out")
-      a.out = value();
-    else if (arg == "--config")
-      a.config = value();
-    else if (arg == "--set")
-      a.overrides.push_back(value());
-    else if (arg == "--size")
-      a.size = static_cast<int>(numberArgument(arg, value()));
-    else if (arg == "--lines")
-      a.lines = static_cast<long>(numberArgument(arg, value()));
-    else if (arg == "--units-mm")
-      a.units_mm = numberArgument(arg, value());
-    else if (arg == "--binary")
+    if (args.is("--out"))
+      a.out = args.value();
+    else if (args.is("--config"))
+      a.config = args.value();
+    else if (args.is("--set"))
+      a.overrides.push_back(args.value());
+    else if (args.is("--size"))
+      a.size = static_cast<int>(numberArgument("--size", args.value()));
+    else if (args.is("--lines"))
+      a.lines = static_cast<long>(numberArgument("--lines", args.value()));
+    else if (args.is("--units-mm"))
+      a.units_mm = numberArgument("--units-mm", args.value());
+    else if (args.is("--binary"))
       a.binary = true;
-    else if (arg.rfind("--", 0) == 0)
-      throw scanhead::ConfigError("unknown option '" + arg + "'\n" + kUsage);
+    else if (args.isOption())
+      args.reject();
     else if (a.command.empty())
-      a.command = arg;
+      a.command = args.arg();
     else if (a.job.empty())
-      a.job = arg;
+      a.job = args.arg();
     else
-      throw scanhead::ConfigError("unexpected argument '" + arg + "'\n" + kUsage);
+      args.reject();
   }
   if (a.command != "stats" && a.command != "picture" && a.command != "convert" && a.command != "bench")
     throw scanhead::ConfigError((a.command.empty() ? std::string("no command") : "unknown command '" + a.command + "'") +

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "argument_cursor.hpp"
 #include "scanhead/core/batch_chain.hpp"
 #include "scanhead/core/job_files.hpp"
 #include "scanhead/core/config_io.hpp"
@@ -36,31 +37,21 @@ struct Arguments
 Arguments parse(int argc, char** argv)
 {
   Arguments a;
-  for (int i = 1; i < argc; ++i)
+  scanhead::ArgumentCursor args(argc, argv, kUsage);
+  while (args.next())
   {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc)
-        throw scanhead::ConfigError(arg + " needs a value\n" + kUsage);
-      return argv[++i];
-    };
-    if (arg == "--job")
-      a.job = value();
-    else if (arg == "--out")
-      a.out = value();
-    else if (arg == "--config")
-      a.config = value();
-    else if (arg == "--set")
-      a.overrides.push_back(value());
-    else if (arg == "--quiet")
+    if (args.is("--job"))
+      a.job = args.value();
+    else if (args.is("--out"))
+      a.out = args.value();
+    else if (args.is("--config"))
+      a.config = args.value();
+    else if (args.is("--set"))
+      a.overrides.push_back(args.value());
+    else if (args.is("--quiet"))
       a.quiet = true;
-    else if (arg == "--help" || arg == "-h")
-    {
-      std::cout << kUsage;
-      std::exit(0);
-    }
     else
-      throw scanhead::ConfigError("unknown argument '" + arg + "'\n" + kUsage);
+      args.reject();
   }
   return a;
 }

@@ -1,0 +1,58 @@
+/// \file argument_cursor.hpp
+/// \brief Walks a tool's command line: options, their values, --help, errors with the usage.
+#pragma once
+
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+#include "scanhead/core/errors.hpp"
+
+namespace scanhead
+{
+/// \code
+/// ArgumentCursor args(argc, argv, usage);
+/// while (args.next())
+///   if (args.is("--out")) out = args.value(); else args.reject();
+/// \endcode
+class ArgumentCursor
+{
+public:
+  ArgumentCursor(int argc, char** argv, std::string usage) : argc_(argc), argv_(argv), usage_(std::move(usage)) {}
+
+  /// \brief Moves to the next argument; on --help or -h prints the usage and exits 0.
+  bool next()
+  {
+    if (++index_ >= argc_)
+      return false;
+    arg_ = argv_[index_];
+    if (arg_ == "--help" || arg_ == "-h")
+    {
+      std::cout << usage_;
+      std::exit(0);
+    }
+    return true;
+  }
+  const std::string& arg() const { return arg_; }
+  bool is(const char* option) const { return arg_ == option; }
+  bool isOption() const { return arg_.rfind("--", 0) == 0; }
+
+  /// \brief The value that follows the current option. \throws ConfigError if there is none
+  std::string value()
+  {
+    if (index_ + 1 >= argc_)
+      throw ConfigError(arg_ + " needs a value\n" + usage_);
+    return argv_[++index_];
+  }
+
+  /// \throws ConfigError naming the current argument, with the usage
+  [[noreturn]] void reject() const { throw ConfigError("unknown argument '" + arg_ + "'\n" + usage_); }
+
+private:
+  int argc_;
+  char** argv_;
+  std::string usage_;
+  int index_ = 0;
+  std::string arg_;
+};
+}  // namespace scanhead
