@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "polyline_fixture.hpp"
 #include "scanhead/core/cli_format.hpp"
 #include "scanhead/core/errors.hpp"
 
@@ -59,15 +60,7 @@ std::vector<const Polyline*> marks(const Job& job)
   return m;
 }
 
-Polyline line(PolylineType type, double speed, double power, std::vector<Eigen::Vector2d> pts)
-{
-  Polyline p;
-  p.type = type;
-  p.speed_mps = speed;
-  p.power_w = power;
-  p.points = std::move(pts);
-  return p;
-}
+using test_support::line;
 
 /// \brief Marks of every kind the writers handle: CCW and CW closed polylines, an open one,
 /// a run of 2-point marks (hatches), with jumps between them (dropped by the writers).

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include "polyline_fixture.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/job_stats.hpp"
 
@@ -10,15 +11,7 @@ namespace scanhead
 {
 namespace
 {
-Polyline line(PolylineType type, double speed_mps, double power_w, std::vector<Eigen::Vector2d> points)
-{
-  Polyline p;
-  p.type = type;
-  p.speed_mps = speed_mps;
-  p.power_w = power_w;
-  p.points = std::move(points);
-  return p;
-}
+using scanhead::test_support::line;
 
 /// By hand (lengths in mm, speeds in m/s so mm / (m/s) = ms):
 ///  P0 MARK 2 m/s 100 W: 3 + 4 = 7 mm -> 3.5 ms, 0.35 J

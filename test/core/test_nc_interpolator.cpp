@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "polyline_fixture.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/nc_interpolator.hpp"
 #include "scanhead/core/optical_model.hpp"
@@ -29,15 +30,7 @@ const OpticalModel& nominalOptics()
   return model;
 }
 
-Polyline line(PolylineType type, double speed, double power, std::vector<Eigen::Vector2d> pts)
-{
-  Polyline p;
-  p.type = type;
-  p.speed_mps = speed;
-  p.power_w = power;
-  p.points = std::move(pts);
-  return p;
-}
+using scanhead::test_support::line;
 
 struct Streams
 {

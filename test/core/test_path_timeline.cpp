@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "polyline_fixture.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/path_timeline.hpp"
 #include "scanhead/core/scan_job.hpp"
@@ -16,15 +17,7 @@ using scanhead::Job;
 
 namespace
 {
-Polyline line(PolylineType type, double speed, double power, std::vector<Eigen::Vector2d> pts)
-{
-  Polyline p;
-  p.type = type;
-  p.speed_mps = speed;
-  p.power_w = power;
-  p.points = std::move(pts);
-  return p;
-}
+using scanhead::test_support::line;
 
 /// Mark (0,0)→(1.234567 mm, 0)→(1.234567, 0.98765) at 0.7 m/s (with a repeated point), an
 /// implicit jump, a mark at 1.3 m/s, an explicit jump polyline, a contiguous mark at 2.1 m/s.
