@@ -152,12 +152,7 @@ void parseValue(const std::string&, const ConfigValue& v, std::string& out)
   out = v.text;
 }
 
-std::string formatValue(double v)
-{
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", v);
-  return buffer;
-}
+std::string formatValue(double v) { return fullPrecisionText(v); }
 std::string formatValue(std::size_t v) { return std::to_string(v); }
 std::string formatValue(int v) { return std::to_string(v); }
 std::string formatValue(bool v) { return v ? "true" : "false"; }

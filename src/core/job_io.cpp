@@ -15,13 +15,6 @@ namespace scanhead
 {
 namespace
 {
-std::string format(double v)
-{
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", v);
-  return buffer;
-}
-
 std::string at(const std::string& source, const YAML::Node& node)
 {
   return source + ":" + std::to_string(node.Mark().line + 1);
@@ -77,7 +70,7 @@ Polyline parsePolyline(const YAML::Node& node, const std::string& source, const 
   {
     line.dwell_s = number(dwell, source, field + ".dwell");
     if (line.dwell_s < 0.0)
-      throw InputError(at(source, dwell) + ": " + field + ".dwell must be >= 0 s (got " + format(line.dwell_s) + ")");
+      throw InputError(at(source, dwell) + ": " + field + ".dwell must be >= 0 s (got " + fullPrecisionText(line.dwell_s) + ")");
   }
   const YAML::Node speed = node["speed"];
   if (speed)
@@ -169,12 +162,12 @@ void validateScanJob(const Job& job, double field_half_width_m)
     const Polyline& line = job.polylines[i];
     const std::string field = job.source + ": " + fieldOf(i);
     if (!std::isfinite(line.dwell_s) || line.dwell_s < 0.0)
-      throw InputError(field + ".dwell must be >= 0 s (got " + format(line.dwell_s) + ")");
+      throw InputError(field + ".dwell must be >= 0 s (got " + fullPrecisionText(line.dwell_s) + ")");
     const bool dwell = line.dwell_s > 0.0;
     if (!dwell && (!std::isfinite(line.speed_mps) || line.speed_mps <= 0.0))
-      throw InputError(field + ".speed must be > 0 m/s (got " + format(line.speed_mps) + ")");
+      throw InputError(field + ".speed must be > 0 m/s (got " + fullPrecisionText(line.speed_mps) + ")");
     if (!std::isfinite(line.power_w) || line.power_w < 0.0)
-      throw InputError(field + ".power must be >= 0 W (got " + format(line.power_w) + ")");
+      throw InputError(field + ".power must be >= 0 W (got " + fullPrecisionText(line.power_w) + ")");
     if (dwell && line.points.size() != 1)
       throw InputError(field + ".points: a dwell needs exactly 1 point (got " + std::to_string(line.points.size()) + ")");
     if (!dwell && line.points.size() < 2)
@@ -186,8 +179,8 @@ void validateScanJob(const Job& job, double field_half_width_m)
       if (!p.allFinite())
         throw InputError(pf + " is not finite");
       if (std::fabs(p.x()) > field_half_width_m || std::fabs(p.y()) > field_half_width_m)
-        throw InputError(pf + " = (" + format(p.x()) + ", " + format(p.y()) + ") m lies outside the field (|x|, |y| <= " +
-                         format(field_half_width_m) + " m, optics.field_half_width_m)");
+        throw InputError(pf + " = (" + fullPrecisionText(p.x()) + ", " + fullPrecisionText(p.y()) + ") m lies outside the field (|x|, |y| <= " +
+                         fullPrecisionText(field_half_width_m) + " m, optics.field_half_width_m)");
     }
   }
 }
@@ -199,13 +192,13 @@ std::string scanJobToYaml(const Job& job)
   for (const Polyline& line : job.polylines)
   {
     out << "  - type: " << (line.type == PolylineType::Mark ? "mark" : "jump") << "\n";
-    out << "    speed: " << format(line.speed_mps) << "\n";
-    out << "    power: " << format(line.power_w) << "\n";
+    out << "    speed: " << fullPrecisionText(line.speed_mps) << "\n";
+    out << "    power: " << fullPrecisionText(line.power_w) << "\n";
     if (line.dwell_s != 0.0)
-      out << "    dwell: " << format(line.dwell_s) << "\n";
+      out << "    dwell: " << fullPrecisionText(line.dwell_s) << "\n";
     out << "    points: [";
     for (std::size_t k = 0; k < line.points.size(); ++k)
-      out << (k ? ", " : "") << "[" << format(line.points[k].x()) << ", " << format(line.points[k].y()) << "]";
+      out << (k ? ", " : "") << "[" << fullPrecisionText(line.points[k].x()) << ", " << fullPrecisionText(line.points[k].y()) << "]";
     out << "]\n";
   }
   return out.str();

@@ -1,4 +1,5 @@
 #include "scanhead/core/metrics_report.hpp"
+#include "scanhead/core/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,16 +10,9 @@ namespace scanhead
 {
 namespace
 {
-std::string num(double v)
-{
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", v);
-  return buffer;
-}
-
 std::string stats(const CornerPathStats& s)
 {
-  return "{min_speed_mps: " + num(s.min_speed_mps) + ", max_contour_error_m: " + num(s.max_contour_error_m) + "}";
+  return "{min_speed_mps: " + fullPrecisionText(s.min_speed_mps) + ", max_contour_error_m: " + fullPrecisionText(s.max_contour_error_m) + "}";
 }
 
 double relative(double value, double reference)
@@ -33,20 +27,20 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "job: \"" << m.job_name << "\"\n";
   out << "samples: " << m.samples << "\n";
   out << "dropped_samples: " << m.dropped_samples << "\n";
-  out << "duration_s: " << num(m.duration_s) << "\n";
-  out << "laser_on_time_s: " << num(m.laser_on_time_s) << "\n";
-  out << "commanded_energy_j: " << num(m.commanded_energy_j) << "\n";
-  out << "deposited_energy_j: " << num(m.deposited_energy_j) << "\n";
-  out << "energy_outside_map_j: " << num(m.energy_outside_map_j) << "\n";
-  out << "peak_energy_density_jpm2: " << num(m.peak_energy_density_jpm2) << "\n";
+  out << "duration_s: " << fullPrecisionText(m.duration_s) << "\n";
+  out << "laser_on_time_s: " << fullPrecisionText(m.laser_on_time_s) << "\n";
+  out << "commanded_energy_j: " << fullPrecisionText(m.commanded_energy_j) << "\n";
+  out << "deposited_energy_j: " << fullPrecisionText(m.deposited_energy_j) << "\n";
+  out << "energy_outside_map_j: " << fullPrecisionText(m.energy_outside_map_j) << "\n";
+  out << "peak_energy_density_jpm2: " << fullPrecisionText(m.peak_energy_density_jpm2) << "\n";
   out << "corners:" << (m.corners.empty() ? " []\n" : "\n");
   for (const CornerReport& c : m.corners)
   {
     out << "  - polyline: " << c.corner.polyline << "\n";
     out << "    vertex: " << c.corner.vertex << "\n";
-    out << "    point_m: [" << num(c.corner.point.x()) << ", " << num(c.corner.point.y()) << "]\n";
-    out << "    angle_deg: " << num(c.corner.angle_rad * 180.0 / M_PI) << "\n";
-    out << "    programmed_speed_mps: " << num(c.corner.speed_mps) << "\n";
+    out << "    point_m: [" << fullPrecisionText(c.corner.point.x()) << ", " << fullPrecisionText(c.corner.point.y()) << "]\n";
+    out << "    angle_deg: " << fullPrecisionText(c.corner.angle_rad * 180.0 / M_PI) << "\n";
+    out << "    programmed_speed_mps: " << fullPrecisionText(c.corner.speed_mps) << "\n";
     out << "    setpoint: " << stats(c.setpoint) << "\n";
     out << "    actual: " << stats(c.actual) << "\n";
     out << "    theory: " << stats(c.theory) << "\n";

@@ -1,6 +1,7 @@
 #include "scanhead/core/number_text.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace scanhead
@@ -27,5 +28,12 @@ NumberText parseNumber(const std::string& text, double& value)
     return NumberText::NotFinite;
   value = parsed;
   return NumberText::Ok;
+}
+
+std::string fullPrecisionText(double value)
+{
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", value);
+  return buffer;
 }
 }  // namespace scanhead

@@ -1,3 +1,4 @@
+#include "scanhead/core/number_text.hpp"
 #include "scanhead/core/results_writer.hpp"
 
 #include <cstdio>
@@ -32,20 +33,13 @@ void writeText(const fs::path& path, const std::string& text)
     throw InputError(path.string() + ": cannot write");
 }
 
-std::string num(double v)
-{
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", v);
-  return buffer;
-}
-
 std::string mapDescription(const EnergyMap& map, const EnergyImageLayout& layout)
 {
   return "# energy_map_16bit.png: E = value / 65535 * scale_max_jpm2, row 0 = top (+y up)\n"
          "# energy_map.png: inferno colour map, colour bar on the right from 0 (bottom) to scale_max_jpm2 (top)\n"
          "width: " + std::to_string(map.width()) + "\nheight: " + std::to_string(map.height()) +
-         "\npixel_m: " + num(map.pixel()) + "\norigin_m: [" + num(map.origin().x()) + ", " + num(map.origin().y()) +
-         "]  # lower-left corner of the map\nscale_max_jpm2: " + num(map.peak()) +
+         "\npixel_m: " + fullPrecisionText(map.pixel()) + "\norigin_m: [" + fullPrecisionText(map.origin().x()) + ", " + fullPrecisionText(map.origin().y()) +
+         "]  # lower-left corner of the map\nscale_max_jpm2: " + fullPrecisionText(map.peak()) +
          "\ncolour_image_block: " + std::to_string(layout.block) + "  # map pixels per image pixel\n";
 }
 

@@ -1,3 +1,4 @@
+#include "scanhead/core/number_text.hpp"
 #include "scanhead/core/shape.hpp"
 
 #include <algorithm>
@@ -52,13 +53,6 @@ double distanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, con
   return (a + t * ab - p).norm();
 }
 
-std::string format(double value)
-{
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  return out.str();
-}
 }  // namespace
 
 Shape makeRectangle(double width_m, double height_m, const Eigen::Vector2d& centre_m)
@@ -70,9 +64,9 @@ Shape makeRectangle(double width_m, double height_m, const Eigen::Vector2d& cent
   const double hx = 0.5 * width_m;
   const double hy = 0.5 * height_m;
   Shape shape;
-  shape.name = "rectangle_" + format(width_m) + "x" + format(height_m) + "m";
-  shape.source = "rectangle " + format(width_m) + " m x " + format(height_m) + " m centred on (" +
-                 format(centre_m.x()) + ", " + format(centre_m.y()) + ") m";
+  shape.name = "rectangle_" + fullPrecisionText(width_m) + "x" + fullPrecisionText(height_m) + "m";
+  shape.source = "rectangle " + fullPrecisionText(width_m) + " m x " + fullPrecisionText(height_m) + " m centred on (" +
+                 fullPrecisionText(centre_m.x()) + ", " + fullPrecisionText(centre_m.y()) + ") m";
   shape.rings.push_back({centre_m + Eigen::Vector2d(-hx, -hy), centre_m + Eigen::Vector2d(hx, -hy),
                          centre_m + Eigen::Vector2d(hx, hy), centre_m + Eigen::Vector2d(-hx, hy)});
   return shape;
@@ -90,10 +84,10 @@ Shape makeCircle(const Eigen::Vector2d& centre_m, double radius_m, double chord_
     failSetting("shape.chord_tolerance_m", ">= radius × 5e-12 (at most 1e6 vertices)", chord_tolerance_m);
   const std::size_t n = std::max<std::size_t>(8, static_cast<std::size_t>(n_real));
   Shape shape;
-  shape.name = "circle_r" + format(radius_m) + "m";
-  shape.source = "circle of radius " + format(radius_m) + " m centred on (" + format(centre_m.x()) + ", " +
-                 format(centre_m.y()) + ") m, " + std::to_string(n) + " vertices (chord tolerance " +
-                 format(chord_tolerance_m) + " m)";
+  shape.name = "circle_r" + fullPrecisionText(radius_m) + "m";
+  shape.source = "circle of radius " + fullPrecisionText(radius_m) + " m centred on (" + fullPrecisionText(centre_m.x()) + ", " +
+                 fullPrecisionText(centre_m.y()) + ") m, " + std::to_string(n) + " vertices (chord tolerance " +
+                 fullPrecisionText(chord_tolerance_m) + " m)";
   Ring ring(n);
   for (std::size_t k = 0; k < n; ++k)
   {
@@ -114,7 +108,7 @@ Shape makePolygon(std::vector<Ring> rings, const std::string& name, const std::s
     const std::string where = source + ": ring " + std::to_string(r + 1);
     for (const Eigen::Vector2d& p : ring)
       if (!p.allFinite())
-        throw InputError(where + ": vertex (" + format(p.x()) + ", " + format(p.y()) + ") is not finite");
+        throw InputError(where + ": vertex (" + fullPrecisionText(p.x()) + ", " + fullPrecisionText(p.y()) + ") is not finite");
     Ring clean;
     clean.reserve(ring.size());
     for (const Eigen::Vector2d& p : ring)

@@ -5,6 +5,7 @@
 
 #include "scanhead/core/config_check.hpp"
 #include "scanhead/core/errors.hpp"
+#include "scanhead/core/number_text.hpp"
 #include "scanhead/core/shape.hpp"
 
 namespace scanhead
@@ -125,14 +126,6 @@ double segmentDistance(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2, con
                   std::min(pointSegmentDistance(q1, p1, p2), pointSegmentDistance(q2, p1, p2)));
 }
 
-std::string format(double value)
-{
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  return out.str();
-}
-
 double signedArea2(const Ring& ring)
 {
   double sum = 0.0;
@@ -144,7 +137,7 @@ double signedArea2(const Ring& ring)
 /// The checks that make a non-convex offset trustworthy (see offsetInward).
 void checkOffset(const Shape& original, const Shape& result, double d)
 {
-  const std::string what = "inward offset of " + format(d) + " m of shape '" + original.name + "'";
+  const std::string what = "inward offset of " + fullPrecisionText(d) + " m of shape '" + original.name + "'";
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> edges;
   for (const Ring& ring : result.rings)
     for (std::size_t i = 0, n = ring.size(); i < n; ++i)
@@ -152,12 +145,12 @@ void checkOffset(const Shape& original, const Shape& result, double d)
   for (std::size_t a = 0; a < edges.size(); ++a)
     for (std::size_t b = a + 1; b < edges.size(); ++b)
       if (segmentsCross(edges[a].first, edges[a].second, edges[b].first, edges[b].second))
-        throw NumericalError(what + " crosses itself near (" + format(edges[a].first.x()) + ", " +
-                             format(edges[a].first.y()) + ") m: the offset is larger than a local feature of the shape");
+        throw NumericalError(what + " crosses itself near (" + fullPrecisionText(edges[a].first.x()) + ", " +
+                             fullPrecisionText(edges[a].first.y()) + ") m: the offset is larger than a local feature of the shape");
   for (const Ring& ring : result.rings)
     for (const Eigen::Vector2d& p : ring)
       if (!containsPoint(original, p))
-        throw NumericalError(what + " has the vertex (" + format(p.x()) + ", " + format(p.y()) +
+        throw NumericalError(what + " has the vertex (" + fullPrecisionText(p.x()) + ", " + fullPrecisionText(p.y()) +
                              ") m outside the shape: the offset is larger than a local feature of the shape");
   // Every offset edge keeps at least the distance from every original edge (exact segment distance).
   const double floor_m = d * (1.0 - 1e-9) - 1e-15;
@@ -165,7 +158,7 @@ void checkOffset(const Shape& original, const Shape& result, double d)
     for (const Ring& ring : original.rings)
       for (std::size_t i = 0, n = ring.size(); i < n; ++i)
         if (segmentDistance(edge.first, edge.second, ring[i], ring[(i + 1) % n]) < floor_m)
-          throw NumericalError(what + " has an edge from (" + format(edge.first.x()) + ", " + format(edge.first.y()) +
+          throw NumericalError(what + " has an edge from (" + fullPrecisionText(edge.first.x()) + ", " + fullPrecisionText(edge.first.y()) +
                                ") m closer than the offset to the boundary: the offset is larger than a local "
                                "feature of the shape");
 }
@@ -176,7 +169,7 @@ Shape offsetInward(const Shape& shape, double distance_m)
   requireSetting(distance_m > 0.0, "contours.offset_m", "> 0", distance_m);
   Shape out;
   out.name = shape.name + "_offset";
-  out.source = shape.source + ", offset inward by " + format(distance_m) + " m";
+  out.source = shape.source + ", offset inward by " + fullPrecisionText(distance_m) + " m";
   std::vector<Ring> rings(shape.rings.size());
   std::vector<bool> keep(shape.rings.size(), true);
   for (std::size_t r = 0; r < shape.rings.size(); ++r)

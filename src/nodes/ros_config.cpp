@@ -7,6 +7,7 @@
 
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/errors.hpp"
+#include "scanhead/core/number_text.hpp"
 
 namespace scanhead
 {
@@ -14,12 +15,10 @@ namespace
 {
 std::string scalarText(XmlRpc::XmlRpcValue& value)
 {
-  char buffer[32];
   switch (value.getType())
   {
     case XmlRpc::XmlRpcValue::TypeDouble:
-      std::snprintf(buffer, sizeof buffer, "%.17g", static_cast<double>(value));
-      return buffer;
+      return fullPrecisionText(static_cast<double>(value));
     case XmlRpc::XmlRpcValue::TypeInt:
       return std::to_string(static_cast<int>(value));
     case XmlRpc::XmlRpcValue::TypeBoolean:

@@ -15,4 +15,8 @@ enum class NumberText
 
 /// \brief Parses \p text into \p value (unchanged unless Ok).
 NumberText parseNumber(const std::string& text, double& value);
+
+/// \brief \p value with 17 significant digits ("%.17g"): reads back bit-exactly, so files and
+/// messages written with it reproduce the number that was used.
+std::string fullPrecisionText(double value);
 }  // namespace scanhead
