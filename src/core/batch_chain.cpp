@@ -5,14 +5,14 @@
 namespace scanhead
 {
 BatchChain::BatchChain(const ChainConfig& config, const OpticalModel& optics)
-  : config_(config), optics_(optics), nc_(config.nc, optics), servo_(config.servo, config.nc.period_s), optical_stage_(optics)
+  : config_(config), optics_(optics), nc_(config.nc, resolveRecipe(config.recipe), optics, &config.servo), servo_(config.servo, config.nc.period_s), optical_stage_(optics)
 {
 }
 
 RunMetrics BatchChain::run(const Job& job, const ProgressCallback& progress)
 {
   nc_.start(job);
-  energy_ = std::make_unique<EnergyStage>(config_, job, nc_.totalSamples());
+  energy_ = std::make_unique<EnergyStage>(config_, job, nc_);
   while (!nc_.done())
   {
     const NcOutput nc = nc_.process(config_.stream.chunk_samples);

@@ -197,7 +197,7 @@ private:
     const std::size_t n = count(Field{ "point count n" }, 2);
     const bool keep = b_.active();
     if (keep)
-      b_.beginMark(n);
+      b_.beginMark(n, PolylineRole::Contour);
     for (std::size_t i = 1; i <= n; ++i)
     {
       const double x = number(Field{ "x of point", i, n });
@@ -225,7 +225,7 @@ private:
       const double ye = number(Field{ "end y of hatch", i, n });
       if (keep)
       {
-        b_.beginMark(2);
+        b_.beginMark(2, PolylineRole::Hatch);
         b_.addPoint(xs, ys);
         b_.addPoint(xe, ye);
         b_.endMark();

@@ -168,7 +168,7 @@ private:
     needItems(n_at, n, 4, "points of 'polyline short'");
     const bool keep = b_.active();
     if (keep)
-      b_.beginMark(n);
+      b_.beginMark(n, PolylineRole::Contour);
     for (std::uint16_t i = 0; i < n; ++i)
     {
       const double x = u16();
@@ -192,7 +192,7 @@ private:
     needItems(n_at, n, 8, "points of 'polyline long'");
     const bool keep = b_.active();
     if (keep)
-      b_.beginMark(static_cast<std::size_t>(n));
+      b_.beginMark(static_cast<std::size_t>(n), PolylineRole::Contour);
     for (std::int32_t i = 0; i < n; ++i)
     {
       const double x = real("x of a 'polyline long' point");
@@ -246,7 +246,7 @@ private:
 
   void hatch(double xs, double ys, double xe, double ye)
   {
-    b_.beginMark(2);
+    b_.beginMark(2, PolylineRole::Hatch);
     b_.addPoint(xs, ys);
     b_.addPoint(xe, ye);
     b_.endMark();

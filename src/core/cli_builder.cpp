@@ -16,10 +16,11 @@ JobBuilder::JobBuilder(const CliReadOptions& options, double m_per_unit)
 {
 }
 
-void JobBuilder::beginMark(std::size_t n_points)
+void JobBuilder::beginMark(std::size_t n_points, PolylineRole role)
 {
   current_ = Polyline{};
   current_.type = PolylineType::Mark;
+  current_.role = role;
   current_.speed_mps = speed_mps_;
   current_.power_w = power_w_;
   current_.points.reserve(n_points);

@@ -45,7 +45,7 @@ public:
   void setPower(double power_w) { power_w_ = power_w; }
 
   /// \pre \p n_points was checked against the remaining input
-  void beginMark(std::size_t n_points);
+  void beginMark(std::size_t n_points, PolylineRole role);  ///< $$POLYLINE: Contour, $$HATCHES: Hatch
   void addPoint(double x_units, double y_units)
   {
     current_.points.emplace_back(x_units * m_per_unit_, y_units * m_per_unit_);

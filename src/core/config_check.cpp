@@ -21,4 +21,16 @@ void requireSetting(bool ok, const std::string& field, const std::string& relati
   if (!ok)
     failSetting(field, relation, value);
 }
+
+void requireChoice(const std::string& value, const std::string& field, std::initializer_list<const char*> choices)
+{
+  std::string known;
+  for (const char* choice : choices)
+  {
+    if (value == choice)
+      return;
+    known += (known.empty() ? "" : ", ") + std::string(choice);
+  }
+  throw ConfigError(field + ": unknown '" + value + "' (known: " + known + ")");
+}
 }  // namespace scanhead

@@ -35,6 +35,36 @@ void visitSettings(Config& c, F&& f)
   f("nc.implicit_jump_speed_mps", c.nc.implicit_jump_speed_mps);
   f("nc.tail_s", c.nc.tail_s);
   f("nc.debug", c.nc.debug);
+  f("nc.igt.mode", c.nc.igt.mode);
+  f("nc.igt.table_file", c.nc.igt.table_file);
+  f("nc.igt.table_nodes", c.nc.igt.table_nodes);
+  f("nc.igt.table_interpolation", c.nc.igt.table_interpolation);
+  f("nc.filter_mode", c.nc.filter_mode);
+  f("nc.max_joint_accel_radps2", c.nc.max_joint_accel_radps2);
+  f("nc.max_joint_jerk_radps3", c.nc.max_joint_jerk_radps3);
+  f("nc.cap_speeds", c.nc.cap_speeds);
+  f("nc.mark_delay_s", c.nc.mark_delay_s);
+  f("nc.jump_delay_s", c.nc.jump_delay_s);
+  f("nc.polygon_delay_s", c.nc.polygon_delay_s);
+  f("nc.polygon_delay_mode", c.nc.polygon_delay_mode);
+  f("nc.skywriting.enabled", c.nc.skywriting.enabled);
+  f("nc.skywriting.run_in_m", c.nc.skywriting.run_in_m);
+  f("nc.skywriting.run_in_s", c.nc.skywriting.run_in_s);
+  f("nc.skywriting.run_out_m", c.nc.skywriting.run_out_m);
+  f("nc.skywriting.run_out_s", c.nc.skywriting.run_out_s);
+  f("nc.skywriting.min_angle_deg", c.nc.skywriting.min_angle_deg);
+  f("nc.power_mode", c.nc.power_mode);
+  f("nc.power_floor", c.nc.power_floor);
+  f("nc.quantisation_bits", c.nc.quantisation_bits);
+  f("recipe.preset", c.recipe.preset);
+  f("recipe.contour_speed_mps", c.recipe.contour_speed_mps);
+  f("recipe.contour_power_w", c.recipe.contour_power_w);
+  f("recipe.hatch_speed_mps", c.recipe.hatch_speed_mps);
+  f("recipe.hatch_power_w", c.recipe.hatch_power_w);
+  f("recipe.jump_speed_mps", c.recipe.jump_speed_mps);
+  f("recipe.contour_jump_speed_mps", c.recipe.contour_jump_speed_mps);
+  f("recipe.laser_on_delay_s", c.recipe.laser_on_delay_s);
+  f("recipe.laser_off_delay_s", c.recipe.laser_off_delay_s);
   f("servo.model", c.servo.model);
   f("servo.x.bandwidth_hz", c.servo.x.bandwidth_hz);
   f("servo.x.damping", c.servo.x.damping);
@@ -99,6 +129,9 @@ void visitSettings(Config& c, F&& f)
   f("energy.truncation_radii", c.energy.truncation_radii);
   f("energy.map_margin_m", c.energy.map_margin_m);
   f("energy.corner_min_angle_deg", c.energy.corner_min_angle_deg);
+  f("energy.laser_path_tolerance_m", c.energy.laser_path_tolerance_m);
+  f("energy.track_exclude_ends_m", c.energy.track_exclude_ends_m);
+  f("energy.track_max_samples", c.energy.track_max_samples);
 }
 
 std::string origin(const std::string& key, const ConfigValue& v)
@@ -309,6 +342,7 @@ void ChainConfig::validate() const
   cam.validate();
   stream.validate();
   nc.validate();
+  recipe.validate();
   servo.validate();
   optics.validate();
   energy.validate();

@@ -97,6 +97,7 @@ Job contours(const Shape& shape, int count, double offset_m, const HatchStyle& s
                  "generated " + std::to_string(count) + " contours " + generatorNumber(offset_m) + " m apart inside " +
                      shape.source + ": mark " + generatorNumber(style.mark_speed_mps) + " m/s at " +
                      generatorNumber(style.power_w) + " W, jump " + generatorNumber(style.jump_speed_mps) + " m/s");
+  out.setRole(PolylineRole::Contour);
   for (int k = 1; k <= count; ++k)
   {
     const Shape ring_set = offsetInward(shape, static_cast<double>(k) * offset_m);

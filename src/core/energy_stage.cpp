@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "scanhead/core/galvo_servo.hpp"
+#include "scanhead/core/track_energy.hpp"
 
 namespace scanhead
 {
@@ -17,12 +18,12 @@ EnergyAccumulator makeAccumulator(const ChainConfig& config, const Job& job)
   return EnergyAccumulator(config.energy, lo, hi);
 }
 
-CornerTracker makeCornerTracker(const ChainConfig& config, const Job& job)
+CornerTracker makeCornerTracker(const ChainConfig& config, const NcInterpolator& nc)
 {
   const double servo_delay = GalvoServo(config.servo, config.nc.period_s).lowFrequencyDelay().maxCoeff();
-  return CornerTracker(findCorners(job, config.energy.corner_min_angle_deg * M_PI / 180.0,
-                                   config.nc.implicit_jump_speed_mps),
-                       config.nc.filterDelay(), config.nc.filterDelay() + servo_delay);
+  const double filter_delay = nc.stats().filter_delay_s;
+  return CornerTracker(findCorners(nc.program().timeline, config.energy.corner_min_angle_deg * M_PI / 180.0),
+                       filter_delay, filter_delay + servo_delay);
 }
 }  // namespace
 
@@ -40,13 +41,24 @@ void jobMapBounds(const Job& job, double margin_m, Eigen::Vector2d& min_corner, 
   max_corner.array() += margin_m;
 }
 
-EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, std::uint64_t total_samples)
+EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcInterpolator& nc)
   : config_(config)
   , job_name_(job.name)
   , accumulator_(makeAccumulator(config, job))
-  , corners_(makeCornerTracker(config, job))
-  , trace_(total_samples, kMaxTraceRows)
+  , corners_(makeCornerTracker(config, nc))
+  , settling_(nc.program(), nc.stats().gate_shift_s, nc.stats().filter_delay_s, config.energy.laser_path_tolerance_m)
+  , placement_(job, config.energy.laser_path_tolerance_m)
+  , trace_(nc.totalSamples(), kMaxTraceRows)
+  , nc_stats_(nc.stats())
 {
+  for (const Polyline& line : job.polylines)
+  {
+    if (line.type == PolylineType::Mark && !line.points.empty())
+    {
+      mark_ends_.push_back(line.points.front());
+      mark_ends_.push_back(line.points.back());
+    }
+  }
 }
 
 void EnergyStage::process(const SpotChunk& chunk)
@@ -54,7 +66,29 @@ void EnergyStage::process(const SpotChunk& chunk)
   counter_.process(chunk);
   accumulator_.process(chunk);
   corners_.process(chunk);
+  settling_.process(chunk);
+  placement_.add(chunk);
   trace_.process(chunk);
+  keepTrack(chunk);
+}
+
+void EnergyStage::keepTrack(const SpotChunk& chunk)
+{
+  // Laser-on samples for the track energy profile, each burst closed by one laser-off sample;
+  // beyond the cap the profile is not measured (memory stays bounded on long jobs).
+  if (track_overflow_)
+    return;
+  for (const SpotSample& s : chunk.samples)
+  {
+    const bool on = s.power_w > 0.0;
+    if (on || (!track_.empty() && track_.back().power_w > 0.0))
+      track_.push_back(s);
+  }
+  if (track_.size() > config_.energy.track_max_samples)
+  {
+    track_overflow_ = true;
+    std::vector<SpotSample>().swap(track_);
+  }
 }
 
 RunMetrics EnergyStage::finish()
@@ -71,6 +105,28 @@ RunMetrics EnergyStage::finish()
   m.energy_outside_map_j = accumulator_.energyOutsideMap();
   m.peak_energy_density_jpm2 = accumulator_.map().peak();
   m.corners = corners_.reports(config_.nc.fir_t1_s, config_.nc.fir_t2_s);
+  m.nc_program = nc_stats_.program;
+  m.nc_speed_cap_mps = nc_stats_.speed_cap_mps;
+  m.nc_filter_delay_s = nc_stats_.filter_delay_s;
+  m.nc_t1_s = nc_stats_.longest_t1_s;
+  m.nc_t2_s = nc_stats_.longest_t2_s;
+  const LaserSettlingCounts& settling = settling_.counts();
+  m.laser_early_samples = settling.early_samples;
+  m.laser_late_samples = settling.late_samples;
+  m.laser_misplaced_energy_j = settling.early_energy_j + settling.late_energy_j;
+  m.laser_off_path_samples = placement_.counts().off_path_samples;
+  m.laser_max_off_path_m = placement_.counts().max_distance_m;
+  if (!track_overflow_)
+  {
+    const TrackEnergyProfile track =
+        trackEnergyProfile(accumulator_.map(), track_, config_.energy.track_exclude_ends_m, &mark_ends_);
+    m.track_measured = track.interior_samples > 0;
+    m.track_median_jpm2 = track.median_jpm2;
+    m.track_peak_jpm2 = track.peak_jpm2;
+    m.track_peak_to_median = track.peakToMedian();
+    m.track_min_to_median = track.minToMedian();
+    m.track_peak_point_m = track.peak_point_m;
+  }
   return m;
 }
 }  // namespace scanhead

@@ -53,7 +53,7 @@ Polyline parsePolyline(const YAML::Node& node, const std::string& source, const 
 {
   if (!node.IsMap())
     throw InputError(at(source, node) + ": " + field + ": expected a map with type, speed, power, points");
-  checkKeys(node, {"type", "speed", "power", "points", "dwell"}, source, field + ": ");
+  checkKeys(node, {"type", "role", "speed", "power", "points", "dwell"}, source, field + ": ");
   Polyline line;
   const YAML::Node type = node["type"];
   if (!type)
@@ -65,6 +65,18 @@ Polyline parsePolyline(const YAML::Node& node, const std::string& source, const 
   else
     throw InputError(at(source, type) + ": " + field + ".type: '" + type.as<std::string>() +
                      "' is not mark or jump");
+  const YAML::Node role = node["role"];
+  if (role)
+  {
+    const std::string text = role.as<std::string>();
+    if (text == "contour")
+      line.role = PolylineRole::Contour;
+    else if (text == "hatch")
+      line.role = PolylineRole::Hatch;
+    else if (text != "unspecified")
+      throw InputError(at(source, role) + ": " + field + ".role: '" + text +
+                       "' is not contour, hatch or unspecified");
+  }
   const YAML::Node dwell = node["dwell"];
   if (dwell)
   {
@@ -192,6 +204,8 @@ std::string scanJobToYaml(const Job& job)
   for (const Polyline& line : job.polylines)
   {
     out << "  - type: " << (line.type == PolylineType::Mark ? "mark" : "jump") << "\n";
+    if (line.type == PolylineType::Mark && line.role != PolylineRole::Unspecified)
+      out << "    role: " << (line.role == PolylineRole::Contour ? "contour" : "hatch") << "\n";
     out << "    speed: " << fullPrecisionText(line.speed_mps) << "\n";
     out << "    power: " << fullPrecisionText(line.power_w) << "\n";
     if (line.dwell_s != 0.0)

@@ -35,6 +35,7 @@ void MarkJumpBuilder::mark(const std::vector<Eigen::Vector2d>& points)
   }
   Polyline line;
   line.type = PolylineType::Mark;
+  line.role = role_;
   line.speed_mps = mark_speed_mps_;
   line.power_w = power_w_;
   line.points = scratch_;

@@ -23,6 +23,9 @@ public:
   void mark(const std::vector<Eigen::Vector2d>& points);
   void mark(const Eigen::Vector2d& from, const Eigen::Vector2d& to);
 
+  /// \brief Role of the marks appended from now on (Hatch until set).
+  void setRole(PolylineRole role) { role_ = role; }
+
   bool empty() const { return job_.polylines.empty(); }
   /// \brief End of the last mark (undefined when empty()).
   const Eigen::Vector2d& position() const { return job_.polylines.back().points.back(); }
@@ -34,6 +37,7 @@ private:
   double mark_speed_mps_;
   double jump_speed_mps_;
   double power_w_;
+  PolylineRole role_ = PolylineRole::Hatch;
   std::vector<Eigen::Vector2d> scratch_;
 };
 

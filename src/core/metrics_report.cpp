@@ -33,6 +33,30 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "deposited_energy_j: " << fullPrecisionText(m.deposited_energy_j) << "\n";
   out << "energy_outside_map_j: " << fullPrecisionText(m.energy_outside_map_j) << "\n";
   out << "peak_energy_density_jpm2: " << fullPrecisionText(m.peak_energy_density_jpm2) << "\n";
+  out << "nc: {capped_polylines: " << m.nc_program.capped_polylines << ", delay_holds: " << m.nc_program.delay_holds
+      << ", polygon_holds: " << m.nc_program.polygon_holds << ", skywritten_corners: " << m.nc_program.skywritten_corners
+      << ", added_time_s: " << fullPrecisionText(m.nc_program.added_time_s)
+      << ", speed_cap_mps: " << (std::isinf(m.nc_speed_cap_mps) ? std::string(".inf") : fullPrecisionText(m.nc_speed_cap_mps))
+      << ", filter_delay_s: " << fullPrecisionText(m.nc_filter_delay_s) << ", t1_s: " << fullPrecisionText(m.nc_t1_s)
+      << ", t2_s: " << fullPrecisionText(m.nc_t2_s) << "}\n";
+  out << "laser_early_samples: " << m.laser_early_samples << "\n";
+  out << "laser_late_samples: " << m.laser_late_samples << "\n";
+  out << "laser_misplaced_energy_j: " << fullPrecisionText(m.laser_misplaced_energy_j) << "\n";
+  out << "laser_off_path_samples: " << m.laser_off_path_samples << "\n";
+  out << "laser_max_off_path_m: "
+      << (std::isinf(m.laser_max_off_path_m) ? std::string(".inf") : fullPrecisionText(m.laser_max_off_path_m)) << "\n";
+  if (m.track_measured)
+  {
+    out << "track_energy: {median_jpm2: " << fullPrecisionText(m.track_median_jpm2)
+        << ", peak_jpm2: " << fullPrecisionText(m.track_peak_jpm2)
+        << ", peak_to_median: " << fullPrecisionText(m.track_peak_to_median)
+        << ", min_to_median: " << fullPrecisionText(m.track_min_to_median) << ", peak_point_m: ["
+        << fullPrecisionText(m.track_peak_point_m.x()) << ", " << fullPrecisionText(m.track_peak_point_m.y()) << "]}\n";
+  }
+  else
+  {
+    out << "track_energy: null  # not measured: no interior track, or more laser-on samples than energy.track_max_samples\n";
+  }
   out << "corners:" << (m.corners.empty() ? " []\n" : "\n");
   for (const CornerReport& c : m.corners)
   {
@@ -60,6 +84,22 @@ std::string metricsTable(const RunMetrics& m)
                 m.commanded_energy_j, m.deposited_energy_j, 100.0 * relative(m.deposited_energy_j, m.commanded_energy_j),
                 m.energy_outside_map_j, m.peak_energy_density_jpm2 * 1e-6);
   out += line;
+  std::snprintf(line, sizeof line,
+                "laser: %llu samples on before the spot reached its mark, %llu after it left (%.3g J); "
+                "%llu on farther than the tolerance from any mark (max %.1f um)\n",
+                static_cast<unsigned long long>(m.laser_early_samples),
+                static_cast<unsigned long long>(m.laser_late_samples), m.laser_misplaced_energy_j,
+                static_cast<unsigned long long>(m.laser_off_path_samples), m.laser_max_off_path_m * 1e6);
+  out += line;
+  if (m.track_measured)
+  {
+    std::snprintf(line, sizeof line,
+                  "track energy: straight level %.4g J/mm^2, peak %.4g J/mm^2 (x%.3f) at (%.3f, %.3f) mm, "
+                  "lowest x%.3f\n",
+                  m.track_median_jpm2 * 1e-6, m.track_peak_jpm2 * 1e-6, m.track_peak_to_median,
+                  m.track_peak_point_m.x() * 1e3, m.track_peak_point_m.y() * 1e3, m.track_min_to_median);
+    out += line;
+  }
   if (m.corners.empty())
     return out;
   out += "corner  angle   speed  |        min speed [mm/s]             |       contour error [um]\n"
@@ -80,5 +120,19 @@ std::string metricsTable(const RunMetrics& m)
     out += "... " + std::to_string(m.corners.size() - kShownCorners) +
            " more corners in metrics.yaml (the closed forms assume legs longer than the filters)\n";
   return out;
+}
+
+std::string ncLimitsLine(const NcStats& stats, const NcConfig& config)
+{
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "nc: Q_filt2 max |accel| %.4g / %.4g rad/s^2 (x %.3f of the limit), max |jerk| %.4g / %.4g rad/s^3 "
+                "(x %.3f); samples over: %llu accel, %llu jerk\n",
+                stats.max_accel_radps2.x(), stats.max_accel_radps2.y(),
+                stats.max_accel_radps2.maxCoeff() / config.max_joint_accel_radps2, stats.max_jerk_radps3.x(),
+                stats.max_jerk_radps3.y(), stats.max_jerk_radps3.maxCoeff() / config.max_joint_jerk_radps3,
+                static_cast<unsigned long long>(stats.samples_over_accel),
+                static_cast<unsigned long long>(stats.samples_over_jerk));
+  return line;
 }
 }  // namespace scanhead

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "scanhead/core/errors.hpp"
 
@@ -119,6 +120,52 @@ PathTimeline::PathTimeline(const Job& job, double implicit_jump_speed_mps)
   }
   end_ = current;
   duration_s_ = t_s;
+}
+
+PathTimeline PathTimeline::fromSegments(std::vector<PathSegment> segments)
+{
+  // Same prefix sums, in the same order, as the Job constructor: a job's own segments give back
+  // bit-identical start times and duration.
+  PathTimeline timeline;
+  double t_s = 0.0;
+  for (std::size_t k = 0; k < segments.size(); ++k)
+  {
+    PathSegment& seg = segments[k];
+    if (!(std::isfinite(seg.duration_s) && seg.duration_s > 0.0))
+    {
+      std::ostringstream msg;
+      msg << "path segment " << k << " duration_s must be > 0 (got " << seg.duration_s << ")";
+      throw InputError(msg.str());
+    }
+    if (!seg.start_m.allFinite() || !seg.end_m.allFinite())
+    {
+      std::ostringstream msg;
+      msg << "path segment " << k << " has a point that is not finite";
+      throw InputError(msg.str());
+    }
+    if (k > 0)
+    {
+      const double gap_m = (seg.start_m - segments[k - 1].end_m).norm();
+      if (!(gap_m <= kSamePointTolerance_m))
+      {
+        std::ostringstream msg;
+        msg << "path segment " << k << " starts " << gap_m << " m from where segment " << (k - 1)
+            << " ended (tolerance " << kSamePointTolerance_m << " m)";
+        throw InputError(msg.str());
+      }
+    }
+    seg.t_start_s = t_s;
+    t_s += seg.duration_s;
+  }
+  if (!segments.empty())
+  {
+    timeline.start_ = segments.front().start_m;
+    timeline.end_ = segments.back().end_m;
+    timeline.has_points_ = true;
+  }
+  timeline.duration_s_ = t_s;
+  timeline.segments_ = std::move(segments);
+  return timeline;
 }
 
 std::size_t PathTimeline::segmentAt(double t_s, Cursor& cursor) const

@@ -58,12 +58,14 @@ void hatchEnds(double half, double c, Eigen::Vector2d& low, Eigen::Vector2d& hig
   }
 }
 
-Polyline makeLine(PolylineType type, double speed_mps, double power_w, Points points)
+Polyline makeLine(PolylineType type, double speed_mps, double power_w, Points points,
+                  PolylineRole role = PolylineRole::Unspecified)
 {
   Polyline p;
   p.type = type;
   p.speed_mps = speed_mps;
   p.power_w = type == PolylineType::Mark ? power_w : 0.0;
+  p.role = role;
   p.points = std::move(points);
   return p;
 }
@@ -173,9 +175,9 @@ SquareJob makeSquareJob(const SquareJobParams& params, const SquareRecipe& recip
         add(square, makeLine(PolylineType::Jump, recipe.jump_speed_mps, 0.0, {current, inner.front()}));
       }
       first = false;
-      add(square, makeLine(PolylineType::Mark, recipe.contour_mark_speed_mps, params.contour_power_w, inner));
+      add(square, makeLine(PolylineType::Mark, recipe.contour_mark_speed_mps, params.contour_power_w, inner, PolylineRole::Contour));
       add(square, makeLine(PolylineType::Jump, recipe.contour_jump_speed_mps, 0.0, {inner.back(), outer.front()}));
-      add(square, makeLine(PolylineType::Mark, recipe.contour_mark_speed_mps, params.contour_power_w, outer));
+      add(square, makeLine(PolylineType::Mark, recipe.contour_mark_speed_mps, params.contour_power_w, outer, PolylineRole::Contour));
 
       // Serpentine: line k runs low→high for even k, high→low for odd k, so the connectors lie on
       // the right/top edges after even lines and on the bottom/left edges after odd ones.
@@ -199,7 +201,7 @@ SquareJob makeSquareJob(const SquareJobParams& params, const SquareRecipe& recip
       add(square, makeLine(PolylineType::Jump, recipe.jump_speed_mps, 0.0, {outer.back(), hatch.front()}));
       if (!params.hatch_jumps_between_lines)
       {
-        add(square, makeLine(PolylineType::Mark, recipe.hatch_mark_speed_mps, params.hatch_power_w, hatch));
+        add(square, makeLine(PolylineType::Mark, recipe.hatch_mark_speed_mps, params.hatch_power_w, hatch, PolylineRole::Hatch));
       }
       else
       {
@@ -210,7 +212,7 @@ SquareJob makeSquareJob(const SquareJobParams& params, const SquareRecipe& recip
             add(square, makeLine(PolylineType::Jump, recipe.jump_speed_mps, 0.0, {hatch[2 * k - 1], hatch[2 * k]}));
           }
           add(square, makeLine(PolylineType::Mark, recipe.hatch_mark_speed_mps, params.hatch_power_w,
-                               {hatch[2 * k], hatch[2 * k + 1]}));
+                               {hatch[2 * k], hatch[2 * k + 1]}, PolylineRole::Hatch));
         }
       }
       current = hatch.back();

@@ -17,7 +17,7 @@ constexpr std::size_t kMaxWaitingChunks = 4096;
 }  // namespace
 
 EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
-  : config_(chainConfigFromParams(nh)), nh_(nh)
+  : config_(chainConfigFromParams(nh)), optics_(opticalModelFromParams(nh, config_.optics)), nh_(nh)
 {
   std::string base_dir;
   private_nh.param("out", out_, std::string());
@@ -85,7 +85,10 @@ void EnergyAccumulatorNode::process(const SpotStream& msg)
                static_cast<unsigned long long>(next_index_));
     job_id_ = msg.chunk.job_id;
     total_samples_ = msg.chunk.total_samples;
-    stage_ = std::make_unique<EnergyStage>(config_, jobs_.at(job_id_), total_samples_);
+    // The NC's program of this job (same config, same optics): corner times and laser windows.
+    NcInterpolator nc(config_.nc, resolveRecipe(config_.recipe), *optics_, &config_.servo);
+    nc.start(jobs_.at(job_id_));
+    stage_ = std::make_unique<EnergyStage>(config_, jobs_.at(job_id_), nc);
     next_index_ = 0;
     if (msg.chunk.first_index != 0)
       ROS_ERROR("energy: job %u starts at sample %llu: the first samples were lost upstream (a stage that "

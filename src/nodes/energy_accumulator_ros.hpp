@@ -35,6 +35,7 @@ private:
   void publishViews();
 
   ChainConfig config_;
+  std::unique_ptr<OpticalModel> optics_;  ///< for the NC program of each job (corner times, laser windows)
   std::map<std::uint32_t, Job> jobs_;  ///< recent jobs by id
   std::deque<SpotStream::ConstPtr> waiting_;  ///< chunks that came before their job
   std::unique_ptr<EnergyStage> stage_;

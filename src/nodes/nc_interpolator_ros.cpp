@@ -1,5 +1,7 @@
 #include "nc_interpolator_ros.hpp"
 
+#include "scanhead/core/metrics_report.hpp"
+
 #include "ros_config.hpp"
 #include "ros_conversions.hpp"
 #include "scanhead/core/job_io.hpp"
@@ -24,7 +26,7 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
   {
     const Job job = fromMsg(msg);
     validateScanJob(job, config_.optics.field_half_width_m);
-    auto nc = std::make_unique<NcInterpolator>(config_.nc, *optics_);
+    auto nc = std::make_unique<NcInterpolator>(config_.nc, resolveRecipe(config_.recipe), *optics_, &config_.servo);
     nc->start(job);
     nc_ = std::move(nc);
     window_.start(msg.job_id, config_.stream.window_chunks * config_.stream.chunk_samples);
@@ -65,6 +67,8 @@ void NcInterpolatorNode::pump()
     if (config_.nc.debug)
       debug_out_.push(toMsg(out.debug, header));
     window_.sent(out.setpoint.endIndex());
+    if (nc_->done())
+      ROS_INFO("nc: job %u done; %s", window_.jobId(), ncLimitsLine(nc_->stats(), config_.nc).c_str());
   }
 }
 }  // namespace scanhead

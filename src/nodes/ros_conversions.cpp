@@ -57,6 +57,8 @@ Job fromMsg(const ScanJob& msg)
     line.speed_mps = p.speed;
     line.power_w = p.power;
     line.dwell_s = p.dwell;
+    line.role = p.role == ScanPolyline::CONTOUR ? PolylineRole::Contour
+                : p.role == ScanPolyline::HATCH ? PolylineRole::Hatch : PolylineRole::Unspecified;
     for (std::size_t k = 0; k < p.x.size(); ++k)
       line.points.emplace_back(p.x[k], p.y[k]);
     job.polylines.push_back(std::move(line));
@@ -77,6 +79,8 @@ ScanJob toMsg(const Job& job, std::uint32_t job_id)
     p.speed = line.speed_mps;
     p.power = line.power_w;
     p.dwell = line.dwell_s;
+    p.role = line.role == PolylineRole::Contour ? ScanPolyline::CONTOUR
+             : line.role == PolylineRole::Hatch ? ScanPolyline::HATCH : ScanPolyline::UNSPECIFIED;
     for (const Eigen::Vector2d& q : line.points)
     {
       p.x.push_back(q.x());
@@ -148,7 +152,11 @@ NcDebug toMsg(const NcDebugChunk& chunk, const ChunkHeader& header)
   {
     put2(msg.x_inter, s.x_inter);
     put2(msg.q_inter, s.q_inter);
+    put2(msg.q_inter_velocity, s.q_inter_velocity);
+    put2(msg.q_inter_acceleration, s.q_inter_acceleration);
     put2(msg.q_filt1, s.q_filt1);
+    put2(msg.q_filt1_velocity, s.q_filt1_velocity);
+    put2(msg.q_filt1_acceleration, s.q_filt1_acceleration);
   }
   return msg;
 }

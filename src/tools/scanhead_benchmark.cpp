@@ -22,7 +22,9 @@ const char* kUsage =
     "usage: scanhead_benchmark [--job SPEC] [--repeat N] [--config FILE] [--set key=value ...]\n"
     "  Runs the job N times (default 20) through NC, servo, optics and energy stage by stage\n"
     "  and prints samples per second per stage and the real-time factor (job time / wall time).\n"
-    "  Default jobs: corner (the NC paper's case) and hatch (5 mm square, 100 um spacing).\n";
+    "  Default jobs: corner (the NC paper's case) and hatch (5 mm square, 100 um spacing).\n"
+    "  Then the NC alone on the last job with each NC option (table IGT, adaptive filters, delays,\n"
+    "  skywriting, power ~ speed, quantisation, debug signals): samples per second and ratio to the default.\n";
 
 double seconds(Clock::duration d)
 {
@@ -47,11 +49,11 @@ struct Stats
 std::vector<double> timedRun(const ChainConfig& config, const OpticalModel& optics, const Job& job, std::uint64_t& samples)
 {
   const auto t_setup = Clock::now();
-  NcInterpolator nc(config.nc, optics);
+  NcInterpolator nc(config.nc, resolveRecipe(config.recipe), optics, &config.servo);
   GalvoServo servo(config.servo, config.nc.period_s);
   OpticalChainStage stage(optics);
   nc.start(job);
-  EnergyStage energy(config, job, nc.totalSamples());
+  EnergyStage energy(config, job, nc);
   std::vector<double> t(6, 0.0);  // nc, servo, optics, energy, setup, total
   t[4] = seconds(Clock::now() - t_setup);
   while (!nc.done())
@@ -106,6 +108,56 @@ void benchmark(const ChainConfig& config, const OpticalModel& optics, const std:
               samples / stats[5].mean() * 1e-6, job_time / stats[5].mean(), job_time / stats[5].max(),
               job_time / stats[5].min());
 }
+/// NC throughput for each option of issue 3, alone (no downstream stage), on one job.
+void benchmarkNcOptions(const std::string& config_path, const std::vector<std::string>& overrides,
+                        const OpticalModel& optics, const std::string& spec, int repeat)
+{
+  struct Option
+  {
+    const char* name;
+    std::vector<std::string> settings;
+  };
+  const std::vector<Option> options = {
+    { "default (fixed FIRs, Newton IGT)", {} },
+    { "igt table bilinear 65x65", { "nc.igt.mode=table" } },
+    { "igt table bicubic 65x65", { "nc.igt.mode=table", "nc.igt.table_interpolation=bicubic" } },
+    { "adaptive filters", { "nc.filter_mode=adaptive" } },
+    { "delays (mark/jump/polygon)", { "nc.mark_delay_s=100e-6", "nc.jump_delay_s=300e-6", "nc.polygon_delay_s=50e-6" } },
+    { "skywriting", { "nc.skywriting.enabled=true" } },
+    { "power ~ speed", { "nc.power_mode=speed" } },
+    { "quantisation 16 bit", { "nc.quantisation_bits=16" } },
+    { "debug signals", { "nc.debug=true" } },
+  };
+  std::printf("\nNC alone on %s, %d runs each\n%-36s %12s %12s %10s\n", spec.c_str(), repeat, "option", "samples",
+              "Msamples/s", "vs default");
+  double reference = 0.0;
+  for (const Option& option : options)
+  {
+    std::vector<std::string> settings = overrides;
+    settings.insert(settings.end(), option.settings.begin(), option.settings.end());
+    const ChainConfig config = loadChainConfig(resolvePackagePath(config_path), settings);
+    const Job job = loadJob(spec, config.cam);
+    validateScanJob(job, config.optics.field_half_width_m);
+    NcInterpolator nc(config.nc, resolveRecipe(config.recipe), optics, &config.servo);
+    Stats stats;
+    std::uint64_t samples = 0;
+    for (int r = 0; r <= repeat; ++r)  // run 0 warms up
+    {
+      const auto start = Clock::now();
+      nc.start(job);
+      while (!nc.done())
+        nc.process(config.stream.chunk_samples);
+      if (r > 0)
+        stats.values.push_back(seconds(Clock::now() - start));
+      samples = nc.totalSamples();
+    }
+    const double rate = samples / stats.mean();
+    if (reference == 0.0)
+      reference = rate;
+    std::printf("%-36s %12llu %12.2f %9.2fx\n", option.name, static_cast<unsigned long long>(samples), rate * 1e-6,
+                rate / reference);
+  }
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -140,6 +192,7 @@ int main(int argc, char** argv)
     const OpticalModel optics = loadOpticalModel(config.optics);
     for (const auto& job : jobs)
       benchmark(config, optics, job, repeat);
+    benchmarkNcOptions(config_path, overrides, optics, jobs.back(), repeat);
     return 0;
   }
   catch (const std::exception& e)

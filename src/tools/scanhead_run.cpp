@@ -86,7 +86,8 @@ int main(int argc, char** argv)
     });
     writeResultsFolder(out, metrics, chain.energy(), config, job, plotFinisher());
     if (!args.quiet)
-      std::cout << metricsTable(metrics) << "results written to " << out << "/\n";
+      std::cout << metricsTable(metrics) << ncLimitsLine(chain.nc().stats(), config.nc) << "results written to " << out
+                << "/\n";
     return 0;
   }
   catch (const std::exception& e)

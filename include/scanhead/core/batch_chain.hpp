@@ -27,6 +27,7 @@ public:
   RunMetrics run(const Job& job, const ProgressCallback& progress = {});
 
   const EnergyStage& energy() const { return *energy_; }
+  const NcInterpolator& nc() const { return nc_; }
   std::uint64_t totalSamples() const { return nc_.totalSamples(); }
 
 private:

@@ -8,6 +8,7 @@
 #include "scanhead/core/energy_config.hpp"
 #include "scanhead/core/nc_config.hpp"
 #include "scanhead/core/optics_config.hpp"
+#include "scanhead/core/recipe.hpp"
 #include "scanhead/core/servo_config.hpp"
 
 namespace scanhead
@@ -38,6 +39,7 @@ struct ChainConfig
   CamConfig cam;
   StreamConfig stream;
   NcConfig nc;
+  RecipeConfig recipe;
   ServoConfig servo;
   OpticsConfig optics;
   EnergyConfig energy;

@@ -33,12 +33,16 @@ struct LaserSample
   double power_w = 0.0;  ///< [W]
 };
 
-/// \brief Intermediate NC signals for analysis (nc/debug).
+/// \brief Intermediate NC signals for analysis (nc/debug, SPEC §1; NC Fig. 2).
 struct NcDebugSample
 {
   Eigen::Vector2d x_inter = Eigen::Vector2d::Zero();  ///< sampled CAM path [m]
   Eigen::Vector2d q_inter = Eigen::Vector2d::Zero();  ///< after the inverse geometric transform [rad]
+  Eigen::Vector2d q_inter_velocity = Eigen::Vector2d::Zero();      ///< backward difference [rad/s]
+  Eigen::Vector2d q_inter_acceleration = Eigen::Vector2d::Zero();  ///< second backward difference [rad/s²]
   Eigen::Vector2d q_filt1 = Eigen::Vector2d::Zero();  ///< after FIR T1 [rad]
+  Eigen::Vector2d q_filt1_velocity = Eigen::Vector2d::Zero();      ///< [rad/s]
+  Eigen::Vector2d q_filt1_acceleration = Eigen::Vector2d::Zero();  ///< [rad/s²]
 };
 
 /// \brief Measured joint state per sample (servo output).

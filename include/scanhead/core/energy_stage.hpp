@@ -7,6 +7,9 @@
 
 #include "scanhead/core/chain_config.hpp"
 #include "scanhead/core/energy_map.hpp"
+#include "scanhead/core/laser_placement.hpp"
+#include "scanhead/core/laser_settling.hpp"
+#include "scanhead/core/nc_interpolator.hpp"
 #include "scanhead/core/run_metrics.hpp"
 #include "scanhead/core/scan_job.hpp"
 #include "scanhead/core/trace_recorder.hpp"
@@ -19,8 +22,11 @@ void jobMapBounds(const Job& job, double margin_m, Eigen::Vector2d& min_corner, 
 class EnergyStage
 {
 public:
-  /// \param[in] total_samples the job's sample count (for the plot decimation)
-  EnergyStage(const ChainConfig& config, const Job& job, std::uint64_t total_samples);
+  /// \param[in] job the job as given (map bounds)
+  /// \param[in] nc  an NC started on \p job (or on the same job with the same config): its program
+  ///                gives the corners' times and the laser windows, its stats the filter delay,
+  ///                totalSamples() the plot decimation
+  EnergyStage(const ChainConfig& config, const Job& job, const NcInterpolator& nc);
   void process(const SpotChunk& chunk);
   /// \brief Ends the stream and returns the run's metrics.
   RunMetrics finish();
@@ -30,11 +36,19 @@ public:
   std::uint64_t samplesSeen() const { return counter_.samples(); }
 
 private:
+  void keepTrack(const SpotChunk& chunk);
+
   ChainConfig config_;
   std::string job_name_;
   EnergyAccumulator accumulator_;
   CornerTracker corners_;
+  LaserSettlingCheck settling_;
+  LaserPlacement placement_;
+  std::vector<SpotSample> track_;  ///< laser-on samples (and one laser-off sample after each burst), capped
+  bool track_overflow_ = false;    ///< more than energy.track_max_samples: profile not measured
+  std::vector<Eigen::Vector2d> mark_ends_;  ///< first and last points of the marks: not track interior
   StreamCounter counter_;
   TraceRecorder trace_;
+  NcStats nc_stats_;  ///< the NC's program figures at start (the per-sample ones stay with the NC)
 };
 }  // namespace scanhead

@@ -5,10 +5,15 @@
 
 #include <string>
 
+#include "scanhead/core/nc_interpolator.hpp"
 #include "scanhead/core/run_metrics.hpp"
 
 namespace scanhead
 {
 std::string metricsToYaml(const RunMetrics& metrics);
 std::string metricsTable(const RunMetrics& metrics);
+
+/// \brief What the NC measured on Q_filt2 while it ran (max acceleration and jerk against the
+/// limits), one line; the NC node logs it, scanhead_run prints it.
+std::string ncLimitsLine(const NcStats& stats, const NcConfig& config);
 }  // namespace scanhead

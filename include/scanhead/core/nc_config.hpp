@@ -1,9 +1,38 @@
 /// \file nc_config.hpp
-/// \brief Parameters of the numerical-control interpolator (SPEC §2).
+/// \brief Parameters of the numerical-control interpolator (SPEC §2): sampling, inverse geometry,
+/// filters, delays, skywriting, power modulation, output quantisation.
 #pragma once
+
+#include <string>
 
 namespace scanhead
 {
+/// \brief The inverse geometric transform (SPEC §2.2).
+struct IgtConfig
+{
+  std::string mode = "newton";            ///< "newton": exact inverse; "table": correction table
+  std::string table_file;                 ///< table to load (correction_table.hpp); "": built from the optics
+  int table_nodes = 65;                   ///< nodes per axis of a built table (THESIS §2.3.2.2: 65)
+  std::string table_interpolation = "bilinear";  ///< "bilinear" (THESIS) | "bicubic" (< 1 µm)
+
+  void validate() const;
+};
+
+/// \brief Skywriting: the laser is off through a corner while the mirrors run out along the
+/// incoming tangent, turn, and run back in along the outgoing one (also before a mark's first
+/// point and after its last). Run length = run_*_m + run_*_s · v (v: the mark's speed).
+struct SkywritingConfig
+{
+  bool enabled = false;
+  double run_in_m = 0.0;        ///< run-in before a corner or a mark's start [m]
+  double run_in_s = 300.0e-6;   ///< run-in as a time at the mark speed [s] (> (T1 + T2)/2: full speed at the laser switch)
+  double run_out_m = 0.0;       ///< run-out after a corner or a mark's end [m]
+  double run_out_s = 300.0e-6;  ///< run-out as a time at the mark speed [s]
+  double min_angle_deg = 30.0;  ///< corners turning by more than this are skywritten [deg]
+
+  void validate() const;
+};
+
 struct NcConfig
 {
   double period_s = 1.0e-5;               ///< Ts, NC sample period [s]
@@ -14,7 +43,33 @@ struct NcConfig
   double tail_s = 3.0e-3;                 ///< hold time after the path so filters and servos settle [s]
   bool debug = false;                     ///< also produce Q_inter / Q_filt1 (nc/debug)
 
-  /// \brief Delay of the filtered setpoint behind the sampled path: (T1 + T2) / 2 [s].
+  IgtConfig igt;
+
+  /// "fixed": box FIRs T1, T2 (the industrial NC); "adaptive": per-speed durations that just meet
+  /// the acceleration and jerk limits below (NC §3.5), filtered in the work plane.
+  std::string filter_mode = "fixed";
+  /// Per-axis limits [rad/s², rad/s³]: the design point of the industrial NC, whose fixed filters
+  /// keep any path at the recipe-1 jump speed (6 m/s) within them: |q̈| <= 2·V·g/T1 (a reversal),
+  /// |q⃛| <= 4·V·g/(T1·T2) (two reversals within T1), so A = 2·6·g/T1, J = 4·6·g/(T1·T2) with
+  /// g = 0.716 rad/m, the largest joint rate per plane speed over the field (Y axis, centre).
+  double max_joint_accel_radps2 = 3.3e4;
+  double max_joint_jerk_radps3 = 5.29e8;
+  bool cap_speeds = false;                ///< fixed filters: slow polylines whose speed would break the limits
+
+  double mark_delay_s = 0.0;      ///< hold at the end of a MARK polyline before what follows [s]
+  double jump_delay_s = 0.0;      ///< hold at the end of a jump before what follows [s]
+  double polygon_delay_s = 0.0;   ///< hold at each corner inside a MARK polyline, laser on [s]
+  std::string polygon_delay_mode = "fixed";  ///< "fixed" | "angle" (scaled by turn angle / 180°)
+  SkywritingConfig skywriting;
+
+  /// "constant" | "speed": P·clamp(v / v_prog, floor, 1) with v the filtered path's speed |Ẋ_filt2|
+  /// (NC §5) | "predicted": v the actual path's, predicted by the servo model run on the setpoint
+  std::string power_mode = "constant";
+  double power_floor = 0.2;             ///< lowest power fraction in "speed" mode, in [0, 1]
+
+  int quantisation_bits = 0;  ///< XY2-100 setpoint word: 0 (off), 16, 18 or 20 bits over the joint range
+
+  /// \brief Delay of the filtered setpoint behind the sampled path with fixed filters: (T1 + T2) / 2 [s].
   double filterDelay() const { return 0.5 * (fir_t1_s + fir_t2_s); }
 
   /// \throws ConfigError naming the field and value

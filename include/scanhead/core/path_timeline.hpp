@@ -23,6 +23,8 @@ struct PathSegment
   bool mark = false;        ///< laser on (MARK polyline)
   bool implicit_jump = false;  ///< inserted between non-contiguous polylines
   bool dwell = false;          ///< a spot: start = end, length 0, lasts duration_s = Polyline::dwell_s
+  bool delay = false;          ///< a hold the NC inserts (mark, jump or polygon delay): length 0
+  bool skywriting = false;     ///< a laser-off move of skywriting (run-in, run-out, turn)
   std::size_t polyline = 0;    ///< job polyline index (implicit jump: the polyline it leads to)
   std::size_t vertex = 0;      ///< index of start_m in that polyline (implicit jump: 0)
   double length_m = 0.0;       ///< |end − start| [m], > 0 (a dwell: 0)
@@ -59,6 +61,12 @@ public:
   /// not finite, a dwell time is negative or not finite, or a dwell has more than one point
   /// \throws ConfigError if a jump must be inserted and \p implicit_jump_speed_mps is not > 0
   PathTimeline(const Job& job, double implicit_jump_speed_mps);
+
+  /// \brief A timeline of given segments, in order (an NC program, nc_program.hpp): start times
+  /// are recomputed as the prefix sums of the durations; the start point is the first segment's
+  /// start. \throws InputError if a duration is not finite and > 0, or a segment does not start
+  /// where the previous one ended (within kSamePointTolerance_m)
+  static PathTimeline fromSegments(std::vector<PathSegment> segments);
 
   const std::vector<PathSegment>& segments() const { return segments_; }
   bool hasPoints() const { return has_points_; }           ///< false for a job without any point

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "scanhead/core/chunk.hpp"
+#include "scanhead/core/nc_program.hpp"
 #include "scanhead/core/scan_job.hpp"
 
 namespace scanhead
@@ -36,6 +37,22 @@ struct RunMetrics
   double deposited_energy_j = 0.0;     ///< Σ map · pixel²
   double energy_outside_map_j = 0.0;
   double peak_energy_density_jpm2 = 0.0;
+  NcProgramStats nc_program;              ///< what the NC changed in the job (recipe cap, delays, skywriting)
+  double nc_speed_cap_mps = 0.0;          ///< cap on every polyline's speed (infinity: none) [m/s]
+  double nc_filter_delay_s = 0.0;         ///< delay of Q_filt2 behind the command [s]
+  double nc_t1_s = 0.0;                   ///< T1 (adaptive: of the fastest knot) [s]
+  double nc_t2_s = 0.0;                   ///< T2 (adaptive: of the fastest knot) [s]
+  std::uint64_t laser_early_samples = 0;  ///< laser on before the spot reached its mark (laser_settling.hpp)
+  std::uint64_t laser_late_samples = 0;   ///< laser on after the spot left its mark
+  double laser_misplaced_energy_j = 0.0;  ///< Σ P·Ts of the early and late samples [J]
+  std::uint64_t laser_off_path_samples = 0;  ///< laser on, spot farther than the tolerance from every mark
+  double laser_max_off_path_m = 0.0;      ///< largest distance of a laser-on spot to the marks [m]
+  bool track_measured = false;            ///< false: more laser-on samples than energy.track_max_samples
+  double track_median_jpm2 = 0.0;         ///< straight-track level: median E along the tracks [J/m²]
+  double track_peak_jpm2 = 0.0;           ///< max E along the tracks, ends excluded [J/m²]
+  double track_peak_to_median = 0.0;      ///< corner peak relative to the straight-track level
+  double track_min_to_median = 0.0;       ///< worst dip relative to the straight-track level
+  Eigen::Vector2d track_peak_point_m = Eigen::Vector2d::Zero();  ///< where the peak is [m]
   std::vector<CornerReport> corners;
 };
 

@@ -14,9 +14,18 @@ enum class PolylineType
   Jump   ///< laser off, mirrors repositioning
 };
 
+/// \brief What a MARK polyline draws, for recipes that set contour and hatch speeds apart.
+enum class PolylineRole
+{
+  Unspecified,  ///< the recipe treats it as hatch
+  Contour,      ///< part outline (CLI $$POLYLINE)
+  Hatch         ///< infill (CLI $$HATCHES)
+};
+
 struct Polyline
 {
   PolylineType type = PolylineType::Mark;
+  PolylineRole role = PolylineRole::Unspecified;  ///< MARK only; jumps ignore it
   double speed_mps = 1.0;  ///< programmed tangential speed [m/s], > 0 (unused by a dwell)
   double power_w = 0.0;    ///< laser power while marking [W], >= 0 (ignored on jumps)
   std::vector<Eigen::Vector2d> points;  ///< vertices [m], work-plane frame, at least 2 (a dwell: exactly 1)
@@ -48,4 +57,10 @@ struct Corner
 /// \param[in] job  a validated job
 /// \param[in] implicit_jump_speed_mps speed of the jumps inserted between non-contiguous polylines
 std::vector<Corner> findCorners(const Job& job, double min_angle_rad, double implicit_jump_speed_mps);
+
+class PathTimeline;
+/// \brief Corners of an NC program's timeline (nc_program.hpp): as above, where a polygon-delay
+/// hold between two edges of a mark does not break the corner (its time is the hold's end);
+/// skywritten corners are not corners any more (laser-off moves between the edges).
+std::vector<Corner> findCorners(const PathTimeline& timeline, double min_angle_rad);
 }  // namespace scanhead

@@ -1,0 +1,19 @@
+/// \file joint_gain.hpp
+/// \brief How fast the joints turn per unit of spot speed, over the field: the factor between the
+/// NC's per-axis joint limits [rad/s², rad/s³] and the work-plane motion it plans.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "scanhead/core/optical_model.hpp"
+
+namespace scanhead
+{
+/// \brief g_i = max over the field of |row_i(J⁻¹)| [rad/m], J = d(spot)/dq, so that
+/// \f[ |\dot q_i| \le g_i\,|\dot x|,\qquad |\ddot q_i| \lesssim g_i\,|\ddot x| \f]
+/// (the second up to the curvature term J̇ q̇, < 0.1 % of the NC's limits below 12 m/s).
+/// Sampled on a probes × probes grid over [−h, h]², corners and centre included (the gain is
+/// largest at the centre and falls towards the edges for this head).
+/// \throws NumericalError if a probe is unreachable
+Eigen::Vector2d jointRateGains(const OpticalModel& optics, double half_width_m, int probes = 21);
+}  // namespace scanhead

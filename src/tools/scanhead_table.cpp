@@ -1,0 +1,136 @@
+// scanhead_table: builds (or loads) the NC correction table and reports its interpolation error
+// against the optics, optionally with assembly defects (SPEC §2.2, §4).
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "argument_cursor.hpp"
+#include "scanhead/core/batch_chain.hpp"
+#include "scanhead/core/config_io.hpp"
+#include "scanhead/core/correction_table.hpp"
+#include "scanhead/core/errors.hpp"
+#include "scanhead/core/number_text.hpp"
+#include "scanhead/core/optical_defects.hpp"
+
+namespace
+{
+const char* kUsage =
+    "usage: scanhead_table [--nodes N] [--interpolation bilinear|bicubic] [--defects typical|FILE]\n"
+    "                      [--probes P] [--save FILE] [--load FILE] [--config FILE] [--set section.key=value ...]\n"
+    "Builds the correction table from the optics (Newton inverse at N x N nodes over the field\n"
+    "[-h, h]^2, h = optics.field_half_width_m), or loads it, and prints its error |h(q_table(x)) - x|\n"
+    "over P x P probes as YAML.\n"
+    "  --nodes          nodes per axis (default: nc.igt.table_nodes, 65); not with --load\n"
+    "  --interpolation  bilinear (THESIS) or bicubic (default: nc.igt.table_interpolation)\n"
+    "  --defects        assembly defects of the optics the table is built and checked on:\n"
+    "                   'typical' (OPT table 2) or a defect-set YAML file (default: nominal)\n"
+    "  --probes         probes per axis (default 257)\n"
+    "  --save FILE      write the built table (docs/correction_table.md)\n"
+    "  --load FILE      check a saved table instead of building one\n"
+    "  --config         configuration YAML (default: the package's config/scanhead.yaml)\n"
+    "  --set            override one setting, e.g. --set optics.field_half_width_m=0.15 (repeatable)\n";
+
+struct Arguments
+{
+  int nodes = 0;  ///< 0: from the config
+  std::string interpolation;
+  std::string defects;
+  int probes = 257;
+  std::string save;
+  std::string load;
+  std::string config = "config/scanhead.yaml";
+  std::vector<std::string> overrides;
+};
+
+int integerAtLeastTwo(const std::string& option, const std::string& text)
+{
+  double value = 0.0;
+  if (scanhead::parseNumber(text, value) != scanhead::NumberText::Ok || value != static_cast<int>(value) ||
+      value < 2)
+    throw scanhead::ConfigError(option + " must be an integer >= 2 (got '" + text + "')");
+  return static_cast<int>(value);
+}
+
+Arguments parse(int argc, char** argv)
+{
+  Arguments a;
+  scanhead::ArgumentCursor args(argc, argv, kUsage);
+  while (args.next())
+  {
+    if (args.is("--nodes"))
+      a.nodes = integerAtLeastTwo("--nodes", args.value());
+    else if (args.is("--interpolation"))
+      a.interpolation = args.value();
+    else if (args.is("--defects"))
+      a.defects = args.value();
+    else if (args.is("--probes"))
+      a.probes = integerAtLeastTwo("--probes", args.value());
+    else if (args.is("--save"))
+      a.save = args.value();
+    else if (args.is("--load"))
+      a.load = args.value();
+    else if (args.is("--config"))
+      a.config = args.value();
+    else if (args.is("--set"))
+      a.overrides.push_back(args.value());
+    else
+      args.reject();
+  }
+  if (!a.load.empty() && a.nodes != 0)
+    throw scanhead::ConfigError("--nodes and --load exclude each other (a loaded table has its own nodes)");
+  if (!a.load.empty() && !a.save.empty())
+    throw scanhead::ConfigError("--save and --load exclude each other (copy the file instead)");
+  return a;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  using namespace scanhead;
+  try
+  {
+    const Arguments args = parse(argc, argv);
+    const ChainConfig config = loadChainConfig(resolvePackagePath(args.config), args.overrides);
+    const TableInterpolation interpolation =
+        args.interpolation.empty() ? parseTableInterpolation(config.nc.igt.table_interpolation,
+                                                             "nc.igt.table_interpolation")
+                                   : parseTableInterpolation(args.interpolation, "--interpolation");
+
+    DefectSet defects;
+    if (args.defects == "typical")
+      defects = typicalDefectSet();
+    else if (!args.defects.empty())
+      defects = loadDefectSet(resolvePackagePath(args.defects));
+    const OpticalModel nominal = loadOpticalModel(config.optics);
+    const OpticalModel optics(applyDefects(nominal.geometry(), defects), config.optics);
+
+    const CorrectionTable table =
+        args.load.empty()
+            ? CorrectionTable::build(optics, args.nodes != 0 ? args.nodes : config.nc.igt.table_nodes,
+                                     config.optics.field_half_width_m)
+            : CorrectionTable::load(args.load);
+    if (!args.save.empty())
+      table.save(args.save);
+    const TableErrorReport report = measureTableError(table, interpolation, optics, args.probes);
+
+    std::cout << "nodes: " << table.nodes() << "\n"
+              << "half_width_m: " << fullPrecisionText(table.halfWidth()) << "\n"
+              << "interpolation: " << (interpolation == TableInterpolation::Bilinear ? "bilinear" : "bicubic") << "\n"
+              << "defects: " << defects.name << "\n"
+              << "probes_per_axis: " << report.probes_per_axis << "\n"
+              << "max_error_m: " << fullPrecisionText(report.max_error_m) << "\n"
+              << "rms_error_m: " << fullPrecisionText(report.rms_error_m) << "\n"
+              << "worst_point_m: [" << fullPrecisionText(report.worst_point_m.x()) << ", "
+              << fullPrecisionText(report.worst_point_m.y()) << "]\n";
+    if (!args.load.empty())
+      std::cout << "loaded: " << args.load << "\n";
+    if (!args.save.empty())
+      std::cout << "saved: " << args.save << "\n";
+    return 0;
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "scanhead_table: error: " << e.what() << "\n";
+    return 1;
+  }
+}
