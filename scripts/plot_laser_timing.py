@@ -31,7 +31,7 @@ def main():
         sys.exit(__doc__)
     out = sys.argv[1]
     runs = [arg.split("=", 1) for arg in sys.argv[2:]]
-    fig, axes = plt.subplots(1, len(runs), figsize=(5 * len(runs), 5), squeeze=False)
+    fig, axes = plt.subplots(1, len(runs), figsize=(6 * len(runs), 5.5), squeeze=False)
     for ax, (label, folder) in zip(axes[0], runs):
         trace, job, metrics, _ = load(folder)
         starts = laser_starts(trace["power_w"])
@@ -42,18 +42,21 @@ def main():
         on = trace["power_w"][window] > 0
         for a, b in zip(*mark_segments(job)):
             ax.plot([a[0] * 1e3, b[0] * 1e3], [a[1] * 1e3, b[1] * 1e3], "k-", lw=0.8)
-        ax.plot(x[~on], y[~on], ".", color="0.6", ms=3, label="laser off")
-        ax.plot(x[on], y[on], ".", color="tab:red", ms=3, label="laser on")
-        pad = 0.08
-        ax.set_xlim(x.min() - pad, x.max() + pad)
-        ax.set_ylim(y.min() - pad, y.max() + pad)
+        ax.plot(x, y, "-", color="0.8", lw=0.8)
+        ax.plot(x[~on], y[~on], "o", color="0.5", ms=3, label="laser off")
+        ax.plot(x[on], y[on], "o", color="tab:red", ms=3, label="laser on")
+        cx, cy = trace["actual_x_m"][k] * 1e3, trace["actual_y_m"][k] * 1e3
+        half = 0.2  # mm around the sample where the laser comes on
+        ax.set_xlim(cx - half, cx + half)
+        ax.set_ylim(cy - half, cy + half)
         ax.set_aspect("equal")
         ax.set_xlabel("x [mm]")
         ax.set_ylabel("y [mm]")
         ax.set_title(f"{label}: {metrics['laser_early_samples']} early samples in the job\n"
-                     f"(laser on > {metrics.get('laser_path_tolerance_um', 30)} um from its mark)", fontsize=9)
+                     "(laser on > 30 um from its mark, energy.laser_path_tolerance_m)", fontsize=9)
         ax.legend(loc="best", fontsize=8)
-    fig.savefig(out, dpi=120, bbox_inches="tight")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110, bbox_inches="tight")
 
 
 if __name__ == "__main__":

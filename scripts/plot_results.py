@@ -44,18 +44,33 @@ def mark_segments(job):
     return np.vstack(starts), np.vstack(ends)
 
 
-def distance_to_path(points, starts, ends, block=4096):
-    """Distance from each point to the nearest commanded segment (brute force, in blocks)."""
+def distance_to_path(points, starts, ends, block=256, reach=1e-3):
+    """Distance from each point to the nearest commanded segment.
+
+    Points go in blocks of consecutive trace rows (a small area); each block is compared with the
+    segments whose box comes within `reach` of the block's box only (all segments if none does),
+    so a 300-square layer takes seconds, not minutes. A distance above `reach` may then be an
+    over-estimate, which the plots do not need.
+    """
     if len(starts) == 0:
         return np.full(len(points), np.nan)
     out = np.empty(len(points))
-    d = ends - starts
-    length2 = np.maximum((d * d).sum(axis=1), 1e-300)
+    lo_seg = np.minimum(starts, ends)
+    hi_seg = np.maximum(starts, ends)
     for i in range(0, len(points), block):
-        p = points[i:i + block, None, :]
-        t = np.clip(((p - starts) * d).sum(axis=2) / length2, 0.0, 1.0)
-        nearest = starts + t[..., None] * d
-        out[i:i + block] = np.sqrt(((p - nearest) ** 2).sum(axis=2)).min(axis=1)
+        p = points[i:i + block]
+        lo = np.nanmin(p, axis=0) - reach
+        hi = np.nanmax(p, axis=0) + reach
+        near = np.all((hi_seg >= lo) & (lo_seg <= hi), axis=1)
+        if not near.any():
+            near[:] = True
+        a, b = starts[near], ends[near]
+        d = b - a
+        length2 = np.maximum((d * d).sum(axis=1), 1e-300)
+        q = p[:, None, :]
+        t = np.clip(((q - a) * d).sum(axis=2) / length2, 0.0, 1.0)
+        nearest = a + t[..., None] * d
+        out[i:i + block] = np.sqrt(((q - nearest) ** 2).sum(axis=2)).min(axis=1)
     return out
 
 

@@ -82,15 +82,9 @@ void validateOptions(const NcProgramOptions& o)
     requireSetting(r.contour_power_w >= 0.0, "recipe.contour_power_w", ">= 0", r.contour_power_w);
     requireSetting(r.hatch_power_w >= 0.0, "recipe.hatch_power_w", ">= 0", r.hatch_power_w);
   }
-  const SkywritingConfig& s = o.skywriting;
-  if (s.enabled)
+  if (o.skywriting.enabled)
   {
-    requireSetting(s.run_in_m >= 0.0, "nc.skywriting.run_in_m", ">= 0", s.run_in_m);
-    requireSetting(s.run_in_s >= 0.0, "nc.skywriting.run_in_s", ">= 0", s.run_in_s);
-    requireSetting(s.run_out_m >= 0.0, "nc.skywriting.run_out_m", ">= 0", s.run_out_m);
-    requireSetting(s.run_out_s >= 0.0, "nc.skywriting.run_out_s", ">= 0", s.run_out_s);
-    requireSetting(s.min_angle_deg >= 0.0 && s.min_angle_deg <= 180.0, "nc.skywriting.min_angle_deg", "in [0, 180]",
-                   s.min_angle_deg);
+    o.skywriting.validate();
   }
 }
 

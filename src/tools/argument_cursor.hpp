@@ -5,7 +5,10 @@
 #include <cstdlib>
 #include <iostream>
 #include <string>
+#include <vector>
 
+#include "scanhead/core/batch_chain.hpp"
+#include "scanhead/core/config_io.hpp"
 #include "scanhead/core/errors.hpp"
 
 namespace scanhead
@@ -54,5 +57,27 @@ private:
   std::string usage_;
   int index_ = 0;
   std::string arg_;
+};
+
+/// \brief The --config FILE and --set section.key=value options every tool takes.
+struct ConfigArguments
+{
+  std::string path = "config/scanhead.yaml";  ///< resolved against the package (resolvePackagePath)
+  std::vector<std::string> overrides;
+
+  /// \brief Takes the current option if it is --config or --set; false otherwise.
+  bool take(ArgumentCursor& args)
+  {
+    if (args.is("--config"))
+      path = args.value();
+    else if (args.is("--set"))
+      overrides.push_back(args.value());
+    else
+      return false;
+    return true;
+  }
+
+  /// \throws ConfigError, InputError as loadChainConfig
+  ChainConfig load() const { return loadChainConfig(resolvePackagePath(path), overrides); }
 };
 }  // namespace scanhead

@@ -29,10 +29,9 @@ struct Arguments
 {
   std::string command;
   int axis = -1;
-  std::string config = "config/scanhead.yaml";
+  scanhead::ConfigArguments config;
   std::string km0_config = "config/km0.yaml";
   std::string out;
-  std::vector<std::string> overrides;
 };
 
 Arguments parse(int argc, char** argv)
@@ -41,6 +40,8 @@ Arguments parse(int argc, char** argv)
   scanhead::ArgumentCursor args(argc, argv, kUsage);
   while (args.next())
   {
+    if (a.config.take(args))
+      continue;
     if (args.is("--axis"))
     {
       const std::string axis = args.value();
@@ -48,14 +49,10 @@ Arguments parse(int argc, char** argv)
         throw scanhead::ConfigError("--axis must be x or y (got '" + axis + "')");
       a.axis = axis == "x" ? 0 : 1;
     }
-    else if (args.is("--config"))
-      a.config = args.value();
     else if (args.is("--km0-config"))
       a.km0_config = args.value();
     else if (args.is("--out"))
       a.out = args.value();
-    else if (args.is("--set"))
-      a.overrides.push_back(args.value());
     else if (a.command.empty() && !args.isOption())
       a.command = args.arg();
     else
@@ -76,7 +73,7 @@ int main(int argc, char** argv)
   try
   {
     const Arguments args = parse(argc, argv);
-    const ChainConfig config = loadChainConfig(resolvePackagePath(args.config), args.overrides);
+    const ChainConfig config = args.config.load();
     const AxisLoopConfig& axis = args.axis == 0 ? config.servo.x : config.servo.y;
     if (args.command == "loops")
       std::cout << loopsReportYaml(config.servo, args.axis);

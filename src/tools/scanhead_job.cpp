@@ -36,8 +36,8 @@ const char* kUsage =
 
 struct Arguments
 {
-  std::string command, job, out, config = "config/scanhead.yaml";
-  std::vector<std::string> overrides;
+  std::string command, job, out;
+  scanhead::ConfigArguments config;
   int size = 1600;
   long lines = 20000;
   bool binary = false;
@@ -59,12 +59,10 @@ Arguments parse(int argc, char** argv)
   scanhead::ArgumentCursor args(argc, argv, kUsage);
   while (args.next())
   {
+    if (a.config.take(args))
+      continue;
     if (args.is("--out"))
       a.out = args.value();
-    else if (args.is("--config"))
-      a.config = args.value();
-    else if (args.is("--set"))
-      a.overrides.push_back(args.value());
     else if (args.is("--size"))
       a.size = static_cast<int>(numberArgument("--size", args.value()));
     else if (args.is("--lines"))
@@ -170,7 +168,7 @@ int main(int argc, char** argv)
       bench(args.lines);
       return 0;
     }
-    const ChainConfig config = loadChainConfig(resolvePackagePath(args.config), args.overrides);
+    const ChainConfig config = args.config.load();
     if (args.command == "stats")
     {
       if (args.job.substr(0, args.job.find(':')) == "squares")

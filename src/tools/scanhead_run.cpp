@@ -29,8 +29,7 @@ struct Arguments
 {
   std::string job = "corner";
   std::string out;
-  std::string config = "config/scanhead.yaml";
-  std::vector<std::string> overrides;
+  scanhead::ConfigArguments config;
   bool quiet = false;
 };
 
@@ -40,14 +39,12 @@ Arguments parse(int argc, char** argv)
   scanhead::ArgumentCursor args(argc, argv, kUsage);
   while (args.next())
   {
+    if (a.config.take(args))
+      continue;
     if (args.is("--job"))
       a.job = args.value();
     else if (args.is("--out"))
       a.out = args.value();
-    else if (args.is("--config"))
-      a.config = args.value();
-    else if (args.is("--set"))
-      a.overrides.push_back(args.value());
     else if (args.is("--quiet"))
       a.quiet = true;
     else
@@ -63,7 +60,7 @@ int main(int argc, char** argv)
   try
   {
     const Arguments args = parse(argc, argv);
-    const ChainConfig config = loadChainConfig(resolvePackagePath(args.config), args.overrides);
+    const ChainConfig config = args.config.load();
     const OpticalModel optics = loadOpticalModel(config.optics);
     Job job = loadJob(args.job, config.cam);
     validateScanJob(job, config.optics.field_half_width_m);

@@ -38,8 +38,7 @@ struct Arguments
   int probes = 257;
   std::string save;
   std::string load;
-  std::string config = "config/scanhead.yaml";
-  std::vector<std::string> overrides;
+  scanhead::ConfigArguments config;
 };
 
 int integerAtLeastTwo(const std::string& option, const std::string& text)
@@ -57,6 +56,8 @@ Arguments parse(int argc, char** argv)
   scanhead::ArgumentCursor args(argc, argv, kUsage);
   while (args.next())
   {
+    if (a.config.take(args))
+      continue;
     if (args.is("--nodes"))
       a.nodes = integerAtLeastTwo("--nodes", args.value());
     else if (args.is("--interpolation"))
@@ -69,10 +70,6 @@ Arguments parse(int argc, char** argv)
       a.save = args.value();
     else if (args.is("--load"))
       a.load = args.value();
-    else if (args.is("--config"))
-      a.config = args.value();
-    else if (args.is("--set"))
-      a.overrides.push_back(args.value());
     else
       args.reject();
   }
@@ -90,7 +87,7 @@ int main(int argc, char** argv)
   try
   {
     const Arguments args = parse(argc, argv);
-    const ChainConfig config = loadChainConfig(resolvePackagePath(args.config), args.overrides);
+    const ChainConfig config = args.config.load();
     const TableInterpolation interpolation =
         args.interpolation.empty() ? parseTableInterpolation(config.nc.igt.table_interpolation,
                                                              "nc.igt.table_interpolation")

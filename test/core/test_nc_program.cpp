@@ -404,7 +404,7 @@ TEST(NcProgram, OptionsValidationAndMapping)
   o = plainOptions();
   o.skywriting.enabled = true;
   o.skywriting.min_angle_deg = 200.0;
-  EXPECT_EQ(configMessage(job, o), "nc.skywriting.min_angle_deg must be in [0, 180] (got 200)");
+  EXPECT_EQ(configMessage(job, o), "nc.skywriting.min_angle_deg must be in [0, 180) (got 200)");
   o.skywriting.min_angle_deg = 30.0;
   o.skywriting.run_out_s = -1e-4;
   EXPECT_EQ(configMessage(job, o), "nc.skywriting.run_out_s must be >= 0 (got -0.0001)");

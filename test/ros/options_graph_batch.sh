@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # With the NC options on (table IGT, adaptive filters, power ~ speed, quantisation; a THESIS recipe
-# with delays and skywriting), the live graph and the batch runner write identical metrics.yaml.
+# with delays, skywriting, capped speeds, power ~ predicted speed and the bilinear table), the live
+# graph and the batch runner write identical metrics.yaml.
 # Registered with CTest (see CMakeLists.txt); needs the installed package on the environment.
 set -euo pipefail
 run=${1:-scanhead_run}
@@ -28,4 +29,5 @@ compare() {  # name job settings...
 compare filters "corner:speed=2,angle=90" nc.igt.mode=table nc.igt.table_interpolation=bicubic \
   nc.filter_mode=adaptive nc.power_mode=speed nc.quantisation_bits=18
 compare timing "squares:recipe=1,rows=1,columns=1,spacing=0.003" recipe.preset=thesis1 nc.skywriting.enabled=true \
-  nc.mark_delay_s=100e-6 nc.jump_delay_s=250e-6 nc.polygon_delay_s=40e-6 nc.polygon_delay_mode=angle
+  nc.mark_delay_s=100e-6 nc.jump_delay_s=250e-6 nc.polygon_delay_s=40e-6 nc.polygon_delay_mode=angle \
+  nc.cap_speeds=true nc.power_mode=predicted nc.igt.mode=table
