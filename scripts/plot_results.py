@@ -19,15 +19,42 @@ import yaml  # noqa: E402
 from PIL import Image  # noqa: E402
 
 
+LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+def load_metrics_head(path):
+    """metrics.yaml up to its first corner: a whole layer has ~1e5 corners the plots do not need."""
+    lines = []
+    corners = 0
+    with open(path) as f:
+        for line in f:
+            if line.startswith("  - polyline:"):
+                corners += 1
+                if corners > 1:
+                    break
+            lines.append(line)
+    return yaml.load("".join(lines), Loader=LOADER)
+
+
 def load(folder):
     trace = np.genfromtxt(os.path.join(folder, "trace.csv"), delimiter=",", names=True)
     with open(os.path.join(folder, "job.yaml")) as f:
-        job = yaml.safe_load(f)
-    with open(os.path.join(folder, "metrics.yaml")) as f:
-        metrics = yaml.safe_load(f)
+        job = yaml.load(f, Loader=LOADER)
+    metrics = load_metrics_head(os.path.join(folder, "metrics.yaml"))
     with open(os.path.join(folder, "energy_map.yaml")) as f:
-        energy = yaml.safe_load(f)
+        energy = yaml.load(f, Loader=LOADER)
     return trace, job, metrics, energy
+
+
+def polylines_with_gaps(job, kind=None):
+    """The polylines' points (all, or those of type `kind`) in mm as one array, NaN rows between
+    them, so a whole layer is one plot call."""
+    parts = []
+    for line in job["polylines"]:
+        if kind is None or line["type"] == kind:
+            parts.append(np.asarray(line["points"], dtype=float) * 1e3)
+            parts.append(np.full((1, 2), np.nan))
+    return np.vstack(parts) if parts else np.zeros((0, 2))
 
 
 def mark_segments(job):
@@ -75,16 +102,18 @@ def distance_to_path(points, starts, ends, block=256, reach=1e-3):
 
 
 def plot_energy(folder, job, energy):
-    image = np.asarray(Image.open(os.path.join(folder, "energy_map_16bit.png")), dtype=float)
+    image = np.asarray(Image.open(os.path.join(folder, "energy_map_16bit.png")))
+    step = max(1, int(np.ceil(np.sqrt(image.size / 4e6))))  # a figure shows no more than ~4 Mpixels
+    image = image[::step, ::step].astype(float)
     density = image / 65535.0 * energy["scale_max_jpm2"] * 1e-6  # J/mm²
     x0, y0 = energy["origin_m"]
     pixel = energy["pixel_m"]
     extent = [x0 * 1e3, (x0 + pixel * energy["width"]) * 1e3, y0 * 1e3, (y0 + pixel * energy["height"]) * 1e3]
     fig, ax = plt.subplots(figsize=(8, 6))
     shown = ax.imshow(density, origin="upper", extent=extent, cmap="inferno")  # row 0 = top (+y up)
-    for line in job["polylines"]:
-        pts = np.asarray(line["points"], dtype=float) * 1e3
-        ax.plot(pts[:, 0], pts[:, 1], "--" if line["type"] == "jump" else "-", color="cyan", lw=0.6)
+    for kind, style in (("mark", "-"), ("jump", "--")):
+        pts = polylines_with_gaps(job, kind)
+        ax.plot(pts[:, 0], pts[:, 1], style, color="cyan", lw=0.6)
     fig.colorbar(shown, ax=ax, label="energy density [J/mm²]")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
@@ -132,9 +161,8 @@ def plot_corner(folder, trace, job, metrics):
     c = np.asarray(corners[0]["point_m"]) * 1e3
     half = max(0.15, 3 * corners[0]["theory"]["max_contour_error_m"] * 1e3)
     fig, ax = plt.subplots(figsize=(6, 6))
-    for line in job["polylines"]:
-        pts = np.asarray(line["points"], dtype=float) * 1e3
-        ax.plot(pts[:, 0], pts[:, 1], "k-", lw=1, label="commanded")
+    pts = polylines_with_gaps(job)
+    ax.plot(pts[:, 0], pts[:, 1], "k-", lw=1, label="commanded")
     ax.plot(trace["setpoint_x_m"] * 1e3, trace["setpoint_y_m"] * 1e3, label="setpoint (Q_filt2)")
     ax.plot(trace["actual_x_m"] * 1e3, trace["actual_y_m"] * 1e3, label="actual")
     ax.set_xlim(c[0] - half, c[0] + half)
