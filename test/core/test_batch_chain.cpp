@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "chain_fixture.hpp"
 #include "scanhead/core/batch_chain.hpp"
 #include "scanhead/core/job_files.hpp"
 #include "scanhead/core/config_io.hpp"
@@ -10,30 +11,12 @@
 #include "scanhead/core/metrics_report.hpp"
 
 using namespace scanhead;
+using scanhead::test_support::ChainRun;
+using scanhead::test_support::kConfig;
+using scanhead::test_support::runJob;
 
 namespace
 {
-const std::string kConfig = std::string(SCANHEAD_SOURCE_DIR) + "/config/scanhead.yaml";
-
-struct ChainRun
-{
-  RunMetrics metrics;
-  std::vector<float> map;
-};
-
-ChainRun runJob(const std::string& job_spec, const std::vector<std::string>& overrides)
-{
-  const ChainConfig config = loadChainConfig(kConfig, overrides);
-  const OpticalModel optics = loadOpticalModel(config.optics);
-  const Job job = loadJob(job_spec, config.cam);
-  validateScanJob(job, config.optics.field_half_width_m);
-  BatchChain chain(config, optics);
-  ChainRun run;
-  run.metrics = chain.run(job);
-  run.map = chain.energy().map().data();
-  return run;
-}
-
 struct CornerCase
 {
   double speed_mps, angle_deg, t1_s, t2_s;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "chain_fixture.hpp"
 #include "scanhead/core/batch_chain.hpp"
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/correction_table.hpp"
@@ -15,32 +16,12 @@
 #include "scanhead/core/nc_interpolator.hpp"
 
 using namespace scanhead;
+using scanhead::test_support::ChainRun;
+using scanhead::test_support::kConfig;
+using scanhead::test_support::runJob;
 
 namespace
 {
-const std::string kConfig = std::string(SCANHEAD_SOURCE_DIR) + "/config/scanhead.yaml";
-
-struct ChainRun
-{
-  RunMetrics metrics;
-  NcStats nc;
-  double job_time_s = 0.0;  ///< NC program duration [s]
-};
-
-ChainRun runJob(const std::string& job_spec, const std::vector<std::string>& overrides)
-{
-  const ChainConfig config = loadChainConfig(kConfig, overrides);
-  const OpticalModel optics = loadOpticalModel(config.optics);
-  const Job job = loadJob(job_spec, config.cam);
-  validateScanJob(job, config.optics.field_half_width_m);
-  BatchChain chain(config, optics);
-  ChainRun run;
-  run.metrics = chain.run(job);
-  run.nc = chain.nc().stats();
-  run.job_time_s = chain.nc().pathDuration();
-  return run;
-}
-
 /// Every sample of the NC's streams for a job, in chunks of \p chunk.
 struct NcStreams
 {
