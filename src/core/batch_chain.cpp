@@ -2,6 +2,8 @@
 
 #include <fstream>
 
+#include "scanhead/core/optical_defects.hpp"
+
 namespace scanhead
 {
 BatchChain::BatchChain(const ChainConfig& config, const OpticalModel& optics)
@@ -41,6 +43,15 @@ std::string resolvePackagePath(const std::string& path)
 
 OpticalModel loadOpticalModel(const OpticsConfig& config)
 {
-  return OpticalModel(geometryFromUrdfFile(resolvePackagePath(config.urdf_path)), config);
+  const OpticalGeometry nominal = geometryFromUrdfFile(resolvePackagePath(config.urdf_path));
+  return OpticalModel(applyDefects(nominal, loadDefects(config)), config);
+}
+
+DefectSet loadDefects(const OpticsConfig& config)
+{
+  const std::string& spec = config.defects;
+  const bool file = spec.size() > 5 && (spec.compare(spec.size() - 5, 5, ".yaml") == 0 ||
+                                        spec.compare(spec.size() - 4, 4, ".yml") == 0);
+  return defectSetByName(file ? resolvePackagePath(spec) : spec);
 }
 }  // namespace scanhead

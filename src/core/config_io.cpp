@@ -117,6 +117,7 @@ void visitSettings(Config& c, F&& f)
   f("servo.feedforward_derivatives", c.servo.feedforward_derivatives);
   f("servo.voltage_feedforward", c.servo.voltage_feedforward);
   f("optics.urdf_path", c.optics.urdf_path);
+  f("optics.defects", c.optics.defects);
   f("optics.window_thickness_m", c.optics.window_thickness_m);
   f("optics.n_gas", c.optics.n_gas);
   f("optics.n_window", c.optics.n_window);

@@ -23,7 +23,7 @@
 /// Measured (g++ -O2, urdf/scanhead.urdf with the default OpticsConfig, n = 65, h = 0.175 m,
 /// 257 × 257 probes; error = |h(q_table(x)) − x|; test_correction_table.cpp asserts these):
 ///   nominal           bilinear max 4.192 µm, RMS 1.797 µm;  bicubic max 0.0462 nm, RMS 0.0196 nm
-///   typicalDefectSet  bilinear max 4.191 µm, RMS 1.796 µm;  bicubic max 0.0462 nm, RMS 0.0196 nm
+///   optTable2DefectSet bilinear max 4.191 µm, RMS 1.796 µm;  bicubic max 0.0462 nm, RMS 0.0196 nm
 /// (worst points in the corner cells). Halving Δ divides the errors by 3.95 (bilinear, O(Δ²)) and
 /// 16.7 (bicubic, O(Δ⁴)): 33 nodes give 16.5 µm / 0.77 nm, 129 nodes 1.05 µm / 2.9 pm.
 /// Points more than 1 nm (kEdgeTolerance_m, rounding of computed edge points) outside [−h, h]²

@@ -15,6 +15,10 @@ void OpticsConfig::validate() const
   {
     throw ConfigError("optics.urdf_path must not be empty");
   }
+  if (defects.empty())
+  {
+    throw ConfigError("optics.defects must not be empty (nominal, opt_table2, random:seed=N or a defect set file)");
+  }
   requireSetting(window_thickness_m >= 0.0, "optics.window_thickness_m", ">= 0", window_thickness_m);
   requireSetting(n_gas >= 1.0, "optics.n_gas", ">= 1", n_gas);
   requireSetting(n_window >= 1.0, "optics.n_window", ">= 1", n_window);

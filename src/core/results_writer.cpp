@@ -90,13 +90,20 @@ void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, 
   }
 }
 
+bool runPythonScript(const std::string& script, const std::vector<std::string>& arguments)
+{
+  const std::string path = resolvePackagePath(script);
+  std::string command = "/usr/bin/python3 '" + path + "'";
+  for (const std::string& argument : arguments)
+    command += " '" + argument + "'";
+  if (std::system((command + " 2>&1").c_str()) == 0)
+    return true;
+  std::fprintf(stderr, "scanhead: plots skipped (%s failed; is python3-matplotlib installed?)\n", path.c_str());
+  return false;
+}
+
 ResultsFinisher plotFinisher()
 {
-  return [](const std::string& tmp_dir) {
-    const std::string script = resolvePackagePath("scripts/plot_results.py");
-    const std::string command = "/usr/bin/python3 '" + script + "' '" + tmp_dir + "' 2>&1";
-    if (std::system(command.c_str()) != 0)
-      std::fprintf(stderr, "scanhead: plots skipped (%s failed; is python3-matplotlib installed?)\n", script.c_str());
-  };
+  return [](const std::string& tmp_dir) { runPythonScript("scripts/plot_results.py", { tmp_dir }); };
 }
 }  // namespace scanhead

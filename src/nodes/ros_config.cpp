@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "scanhead/core/batch_chain.hpp"
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/number_text.hpp"
@@ -61,6 +62,19 @@ std::unique_ptr<OpticalModel> opticalModelFromParams(const ros::NodeHandle& nh, 
   std::string urdf;
   if (!nh.getParam("robot_description", urdf))
     throw InputError("parameter robot_description is not set: load urdf/scanhead.urdf into it (see launch/)");
-  return std::make_unique<OpticalModel>(geometryFromUrdf(urdf, nh.resolveName("robot_description")), config);
+  auto model = std::make_unique<OpticalModel>(geometryFromUrdf(urdf, nh.resolveName("robot_description")), config);
+  // robot_description must be the machine optics.defects names (the launch file's defects:= sets
+  // both): the batch runner builds it from the nominal URDF and the set, the graph from the URDF.
+  const OpticalModel expected = loadOpticalModel(config);
+  for (const Eigen::Vector2d& q : { Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.1, -0.1), Eigen::Vector2d(-0.12, 0.08) })
+  {
+    if ((model->spot(q) - expected.spot(q)).norm() > 1e-9)
+    {
+      throw InputError("robot_description is not the machine optics.defects = '" + config.defects +
+                       "' names (spots differ at angles (" + std::to_string(q.x()) + ", " + std::to_string(q.y()) +
+                       ") rad): launch with defects:=" + config.defects + ", which generates both");
+    }
+  }
+  return model;
 }
 }  // namespace scanhead

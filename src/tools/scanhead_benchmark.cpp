@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "scanhead/core/batch_chain.hpp"
 #include "scanhead/core/job_files.hpp"
 #include "scanhead/core/config_io.hpp"
+#include "scanhead/core/correction_table.hpp"
 #include "scanhead/core/job_io.hpp"
 
 using namespace scanhead;
@@ -24,7 +26,8 @@ const char* kUsage =
     "  and prints samples per second per stage and the real-time factor (job time / wall time).\n"
     "  Default jobs: corner (the NC paper's case) and hatch (5 mm square, 100 um spacing).\n"
     "  Then the NC alone on the last job with each NC option (table IGT, adaptive filters, delays,\n"
-    "  skywriting, power ~ speed, quantisation, debug signals): samples per second and ratio to the default.\n";
+    "  skywriting, power ~ speed, quantisation, debug signals): samples per second and ratio to the default;\n"
+    "  and the optical models: spots per second of the ray trace, the Newton inverse and the table inverse.\n";
 
 double seconds(Clock::duration d)
 {
@@ -158,6 +161,67 @@ void benchmarkNcOptions(const std::string& config_path, const std::vector<std::s
                 rate / reference);
   }
 }
+/// Spots per second of the optical models: direct (ray trace, on the config's machine), Newton
+/// inverse (warm-started along a raster, as the NC uses it) and the correction-table inverse.
+void benchmarkOpticalModels(const ChainConfig& config, const OpticalModel& optics, int repeat)
+{
+  const int side = 200;  // a raster of side² points over the field
+  const double h = 0.95 * config.optics.field_half_width_m;
+  std::vector<Eigen::Vector2d> spots, angles;
+  for (int j = 0; j < side; ++j)
+    for (int i = 0; i < side; ++i)
+    {
+      const int k = (j % 2 == 0) ? i : side - 1 - i;  // serpentine: neighbours stay close
+      spots.emplace_back(-h + 2 * h * k / (side - 1), -h + 2 * h * j / (side - 1));
+    }
+  Eigen::Vector2d q = Eigen::Vector2d::Zero();
+  for (const auto& x : spots)
+    angles.push_back(q = optics.inverse(x, q));
+  const CorrectionTable table = CorrectionTable::build(optics, 65, config.optics.field_half_width_m);
+  auto rate = [&](const std::function<double()>& pass) {
+    Stats stats;
+    double sink = 0.0;
+    for (int r = 0; r <= repeat; ++r)
+    {
+      const auto start = Clock::now();
+      sink += pass();
+      if (r > 0)
+        stats.values.push_back(seconds(Clock::now() - start));
+    }
+    return spots.size() / stats.mean() + 0.0 * sink;
+  };
+  const double direct = rate([&] {
+    double s = 0.0;
+    for (const auto& a : angles)
+      s += optics.spot(a).x();
+    return s;
+  });
+  const double newton = rate([&] {
+    double s = 0.0;
+    Eigen::Vector2d guess = angles.front();
+    for (const auto& x : spots)
+      s += (guess = optics.inverse(x, guess)).x();
+    return s;
+  });
+  const double bilinear = rate([&] {
+    double s = 0.0;
+    for (const auto& x : spots)
+      s += table.joints(x, TableInterpolation::Bilinear).x();
+    return s;
+  });
+  const double bicubic = rate([&] {
+    double s = 0.0;
+    for (const auto& x : spots)
+      s += table.joints(x, TableInterpolation::Bicubic).x();
+    return s;
+  });
+  std::printf("\noptical models (machine: optics.defects = %s), %zu points over the field, %d runs\n", config.optics.defects.c_str(),
+              spots.size(), repeat);
+  std::printf("%-44s %10.2f M spots/s\n", "direct model (ray trace)", direct * 1e-6);
+  std::printf("%-44s %10.2f M spots/s\n", "inverse, Newton (warm-started along a raster)", newton * 1e-6);
+  std::printf("%-44s %10.2f M spots/s\n", "inverse, table 65x65 bilinear", bilinear * 1e-6);
+  std::printf("%-44s %10.2f M spots/s\n", "inverse, table 65x65 bicubic", bicubic * 1e-6);
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -193,6 +257,7 @@ int main(int argc, char** argv)
     for (const auto& job : jobs)
       benchmark(config, optics, job, repeat);
     benchmarkNcOptions(config_path, overrides, optics, jobs.back(), repeat);
+    benchmarkOpticalModels(config, optics, repeat);
     return 0;
   }
   catch (const std::exception& e)

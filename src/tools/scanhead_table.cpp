@@ -15,15 +15,16 @@
 namespace
 {
 const char* kUsage =
-    "usage: scanhead_table [--nodes N] [--interpolation bilinear|bicubic] [--defects typical|FILE]\n"
+    "usage: scanhead_table [--nodes N] [--interpolation bilinear|bicubic] [--defects SET]\n"
     "                      [--probes P] [--save FILE] [--load FILE] [--config FILE] [--set section.key=value ...]\n"
     "Builds the correction table from the optics (Newton inverse at N x N nodes over the field\n"
     "[-h, h]^2, h = optics.field_half_width_m), or loads it, and prints its error |h(q_table(x)) - x|\n"
     "over P x P probes as YAML.\n"
     "  --nodes          nodes per axis (default: nc.igt.table_nodes, 65); not with --load\n"
     "  --interpolation  bilinear (THESIS) or bicubic (default: nc.igt.table_interpolation)\n"
-    "  --defects        assembly defects of the optics the table is built and checked on:\n"
-    "                   'typical' (OPT table 2) or a defect-set YAML file (default: nominal)\n"
+    "  --defects        assembly defects of the optics the table is built and checked on (docs/defects.md):\n"
+    "                   nominal | opt_table2 (OPT table 2) | random:seed=N[,mm=B][,mrad=B] | a defect set\n"
+    "                   file (.yaml) (default: the config's optics.defects, nominal)\n"
     "  --probes         probes per axis (default 257)\n"
     "  --save FILE      write the built table (docs/correction_table.md)\n"
     "  --load FILE      check a saved table instead of building one\n"
@@ -93,13 +94,12 @@ int main(int argc, char** argv)
                                                              "nc.igt.table_interpolation")
                                    : parseTableInterpolation(args.interpolation, "--interpolation");
 
-    DefectSet defects;
-    if (args.defects == "typical")
-      defects = typicalDefectSet();
-    else if (!args.defects.empty())
-      defects = loadDefectSet(resolvePackagePath(args.defects));
-    const OpticalModel nominal = loadOpticalModel(config.optics);
-    const OpticalModel optics(applyDefects(nominal.geometry(), defects), config.optics);
+    OpticsConfig machine = config.optics;
+    if (!args.defects.empty())
+      machine.defects = args.defects;
+    const DefectSet defects = loadDefects(machine);  // the forms of defectSetByName, files resolved
+    const OpticalGeometry nominal = geometryFromUrdfFile(resolvePackagePath(config.optics.urdf_path));
+    const OpticalModel optics(applyDefects(nominal, defects), config.optics);
 
     const CorrectionTable table =
         args.load.empty()

@@ -36,9 +36,9 @@ OpticalModel nominalModel(const OpticsConfig& config = OpticsConfig())
   return OpticalModel(nominalGeometry(), config);
 }
 
-OpticalModel typicalModel()
+OpticalModel optTable2Model()
 {
-  return OpticalModel(applyDefects(nominalGeometry(), typicalDefectSet()), OpticsConfig());
+  return OpticalModel(applyDefects(nominalGeometry(), optTable2DefectSet()), OpticsConfig());
 }
 
 std::string tempPath(const std::string& name)
@@ -92,7 +92,7 @@ TEST(CorrectionTable, ExactAtNodes)
 TEST(CorrectionTable, BilinearErrorAt65Nodes)
 {
   // Measured (257 x 257 probes): nominal max 4.19197 µm at (-172.27, -172.27) mm, RMS 1.79666 µm;
-  // typical defects max 4.19084 µm, RMS 1.79610 µm. The computation is deterministic; 1e-4
+  // OPT table 2 defects max 4.19084 µm, RMS 1.79610 µm. The computation is deterministic; 1e-4
   // relative leaves room for another compiler's rounding and still catches any change of scheme.
   const OpticalModel nominal = nominalModel();
   const CorrectionTable table = CorrectionTable::build(nominal, kNodes, kHalfWidth);
@@ -105,9 +105,9 @@ TEST(CorrectionTable, BilinearErrorAt65Nodes)
   const TableErrorReport bicubic = measureTableError(table, TableInterpolation::Bicubic, nominal, 257);
   EXPECT_GT(bilinear.max_error_m, 1000.0 * bicubic.max_error_m);
 
-  const OpticalModel typical = typicalModel();
-  const CorrectionTable typical_table = CorrectionTable::build(typical, kNodes, kHalfWidth);
-  const TableErrorReport defective = measureTableError(typical_table, TableInterpolation::Bilinear, typical, 257);
+  const OpticalModel defective_optics = optTable2Model();
+  const CorrectionTable opt_table2_table = CorrectionTable::build(defective_optics, kNodes, kHalfWidth);
+  const TableErrorReport defective = measureTableError(opt_table2_table, TableInterpolation::Bilinear, defective_optics, 257);
   EXPECT_NEAR(defective.max_error_m, 4.19084e-6, 4.19084e-6 * 1e-4);
   EXPECT_NEAR(defective.rms_error_m, 1.79610e-6, 1.79610e-6 * 1e-4);
 }
@@ -115,8 +115,8 @@ TEST(CorrectionTable, BilinearErrorAt65Nodes)
 TEST(CorrectionTable, BicubicBelowOneMicron)
 {
   // Requirement: < 1 µm at 65 x 65 over the 350 mm field. Measured 0.0462 nm max, 0.0196 nm RMS
-  // (nominal and typical defects alike); the second bound (0.1 nm) guards that level.
-  for (const OpticalModel& optics : { nominalModel(), typicalModel() })
+  // (nominal and OPT table 2 defects alike); the second bound (0.1 nm) guards that level.
+  for (const OpticalModel& optics : { nominalModel(), optTable2Model() })
   {
     const CorrectionTable table = CorrectionTable::build(optics, kNodes, kHalfWidth);
     const TableErrorReport report = measureTableError(table, TableInterpolation::Bicubic, optics, 257);
@@ -169,7 +169,7 @@ TEST(CorrectionTable, SmallGrids)
 
 TEST(CorrectionTable, SaveLoadRoundTripIsBitIdentical)
 {
-  const OpticalModel optics = typicalModel();
+  const OpticalModel optics = optTable2Model();
   const CorrectionTable table = CorrectionTable::build(optics, 33, kHalfWidth);
   const std::string path = tempPath("round_trip.txt");
   table.save(path);

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # scanhead_table: the error report of the THESIS 65 × 65 table (bilinear ~4.19 µm max) and of the
-# bicubic option (< 1 µm), on the nominal and the typical-defect machine; save/load gives the same
+# bicubic option (< 1 µm), on the nominal and the OPT table 2 machine; save/load gives the same
 # report; bad arguments and files fail with a message.
 set -euo pipefail
 tool=${1:-scanhead_table}
@@ -13,7 +13,7 @@ check() {  # name report expression-on-max
   /usr/bin/python3 -c "import sys; m = float('$max'); sys.exit(0 if ($3) else 1)" \
     || { echo "FAIL $1: max_error_m $max does not satisfy $3"; echo "$2"; exit 1; }
 }
-for defects in "" "--defects typical"; do
+for defects in "" "--defects opt_table2"; do
   out=$("$tool" --probes 129 $defects)
   for key in nodes interpolation defects max_error_m rms_error_m worst_point_m; do
     grep -q "^$key:" <<<"$out" || { echo "FAIL: no $key"; echo "$out"; exit 1; }

@@ -10,6 +10,7 @@
 #include "scanhead/core/galvo_servo.hpp"
 #include "scanhead/core/nc_interpolator.hpp"
 #include "scanhead/core/optical_chain_stage.hpp"
+#include "scanhead/core/optical_defects.hpp"
 #include "scanhead/core/optical_model.hpp"
 
 namespace scanhead
@@ -42,6 +43,10 @@ private:
 /// \brief Resolves a config path (optics.urdf_path…) against the installed share dir, then the source tree.
 std::string resolvePackagePath(const std::string& path);
 
-/// \brief The optical model the config names (URDF file resolved with resolvePackagePath).
+/// \brief The optical model the config names: the nominal URDF (resolved with resolvePackagePath)
+/// with the defect set optics.defects applied.
 OpticalModel loadOpticalModel(const OpticsConfig& config);
+
+/// \brief The defect set optics.defects names (a .yaml file resolved with resolvePackagePath).
+DefectSet loadDefects(const OpticsConfig& config);
 }  // namespace scanhead

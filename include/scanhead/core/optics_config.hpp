@@ -8,7 +8,11 @@ namespace scanhead
 {
 struct OpticsConfig
 {
-  std::string urdf_path = "urdf/scanhead.urdf";  ///< relative paths resolve against the package share dir
+  std::string urdf_path = "urdf/scanhead.urdf";  ///< the NOMINAL head; relative paths resolve against the package share dir
+  /// The machine's assembly defects (optical_defects.hpp): nominal | opt_table2 |
+  /// random:seed=N[,mm=B][,mrad=B] | a defect set file. The graph reads the defective URDF from
+  /// robot_description (launch arg defects:=, which sets this key too).
+  std::string defects = "nominal";
   double window_thickness_m = 3.0e-3;   ///< e_v, both protective windows [m]
   double n_gas = 1.00028;               ///< n1, refractive index of the process gas (argon, 1064 nm)
   double n_window = 1.4496;             ///< n2, fused silica at 1064 nm

@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "scanhead/core/chain_config.hpp"
 #include "scanhead/core/energy_stage.hpp"
@@ -31,4 +32,8 @@ void writeResultsFolder(const std::string& dir, const RunMetrics& metrics, const
 /// \brief A finisher that runs scripts/plot_results.py on the folder with the system python3;
 /// a missing python3-matplotlib only loses the plots (a warning on stderr), never the results.
 ResultsFinisher plotFinisher();
+
+/// \brief Runs a package script (path resolved with resolvePackagePath) with the system python3
+/// and \p arguments; false, with a warning on stderr, if it fails (plots are never essential).
+bool runPythonScript(const std::string& script, const std::vector<std::string>& arguments);
 }  // namespace scanhead
