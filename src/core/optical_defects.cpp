@@ -282,6 +282,18 @@ std::string defectLabel(std::size_t index)
   return std::string(kElementKeys[kMapping[index].element]) + "." + kMapping[index].component;
 }
 
+std::size_t defectIndex(const std::string& label)
+{
+  std::string known;
+  for (std::size_t k = 0; k < kDefectCount; ++k)
+  {
+    if (defectLabel(k) == label)
+      return k;
+    known += (k ? ", " : "") + defectLabel(k);
+  }
+  throw InputError("unknown defect '" + label + "' (the 30: " + known + ")");
+}
+
 bool DefectSet::isNominal() const
 {
   for (double v : values)

@@ -10,6 +10,7 @@
 #include "scanhead/core/batch_chain.hpp"
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/errors.hpp"
+#include "scanhead/core/number_text.hpp"
 
 namespace scanhead
 {
@@ -58,6 +59,15 @@ private:
   int index_ = 0;
   std::string arg_;
 };
+
+/// \brief An option's value as an integer >= 2 (grid sizes, node counts). \throws ConfigError naming the option
+inline int integerAtLeastTwo(const std::string& option, const std::string& text)
+{
+  double value = 0.0;
+  if (parseNumber(text, value) != NumberText::Ok || value != static_cast<int>(value) || value < 2)
+    throw ConfigError(option + " must be an integer >= 2 (got '" + text + "')");
+  return static_cast<int>(value);
+}
 
 /// \brief The --config FILE and --set section.key=value options every tool takes.
 struct ConfigArguments

@@ -72,15 +72,6 @@ struct Arguments
   scanhead::ConfigArguments config;
 };
 
-int integerAtLeastTwo(const std::string& option, const std::string& text)
-{
-  double value = 0.0;
-  if (scanhead::parseNumber(text, value) != scanhead::NumberText::Ok || value != static_cast<int>(value) ||
-      value < 2)
-    throw scanhead::ConfigError(option + " must be an integer >= 2 (got '" + text + "')");
-  return static_cast<int>(value);
-}
-
 double nonNegativeNumber(const std::string& option, const std::string& text)
 {
   double value = 0.0;
@@ -100,10 +91,10 @@ Arguments parse(int argc, char** argv)
     if (args.is("--defects"))
       a.defects = args.value();
     else if (args.is("--nodes"))
-      a.nodes = integerAtLeastTwo("--nodes", args.value());
+      a.nodes = scanhead::integerAtLeastTwo("--nodes", args.value());
     else if (args.is("--probes"))
     {
-      a.probes = integerAtLeastTwo("--probes", args.value());
+      a.probes = scanhead::integerAtLeastTwo("--probes", args.value());
       a.probes_given = true;
     }
     else if (args.is("--interpolation"))
@@ -111,7 +102,7 @@ Arguments parse(int argc, char** argv)
     else if (args.is("--out"))
       a.out = args.value();
     else if (args.is("--grid"))
-      a.grid = integerAtLeastTwo("--grid", args.value());
+      a.grid = scanhead::integerAtLeastTwo("--grid", args.value());
     else if (args.is("--noise"))
       a.noise_m = nonNegativeNumber("--noise", args.value());
     else if (args.is("--seed"))

@@ -42,15 +42,6 @@ struct Arguments
   scanhead::ConfigArguments config;
 };
 
-int integerAtLeastTwo(const std::string& option, const std::string& text)
-{
-  double value = 0.0;
-  if (scanhead::parseNumber(text, value) != scanhead::NumberText::Ok || value != static_cast<int>(value) ||
-      value < 2)
-    throw scanhead::ConfigError(option + " must be an integer >= 2 (got '" + text + "')");
-  return static_cast<int>(value);
-}
-
 Arguments parse(int argc, char** argv)
 {
   Arguments a;
@@ -60,13 +51,13 @@ Arguments parse(int argc, char** argv)
     if (a.config.take(args))
       continue;
     if (args.is("--nodes"))
-      a.nodes = integerAtLeastTwo("--nodes", args.value());
+      a.nodes = scanhead::integerAtLeastTwo("--nodes", args.value());
     else if (args.is("--interpolation"))
       a.interpolation = args.value();
     else if (args.is("--defects"))
       a.defects = args.value();
     else if (args.is("--probes"))
-      a.probes = integerAtLeastTwo("--probes", args.value());
+      a.probes = scanhead::integerAtLeastTwo("--probes", args.value());
     else if (args.is("--save"))
       a.save = args.value();
     else if (args.is("--load"))

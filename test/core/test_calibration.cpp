@@ -21,6 +21,7 @@
 #include <vector>
 #include <yaml-cpp/yaml.h>
 
+#include "optics_fixture.hpp"
 #include "scanhead/core/calibration.hpp"
 #include "scanhead/core/correction_table.hpp"
 #include "scanhead/core/errors.hpp"
@@ -35,17 +36,13 @@ namespace scanhead
 {
 namespace
 {
-const std::string kUrdfPath = std::string(SCANHEAD_SOURCE_DIR) + "/urdf/scanhead.urdf";
+const std::string& kUrdfPath = test_support::kNominalUrdfPath;
 constexpr int kGrid = 15;            // measurement grid per axis (225 spots)
 constexpr double kField_m = 0.175;   // field half width [m] (OpticsConfig default)
 constexpr int kTableNodes = 65;      // correction table nodes per axis (SPEC §2.2)
 constexpr int kProbes = 41;          // table error probes per axis
 
-const OpticalGeometry& nominal()
-{
-  static const OpticalGeometry g = geometryFromUrdfFile(kUrdfPath);
-  return g;
-}
+const OpticalGeometry& nominal() { return test_support::nominalGeometry(); }
 
 const OpticsConfig& config()
 {
@@ -60,22 +57,11 @@ const std::vector<Eigen::Vector2d>& angles()
   return grid;
 }
 
-std::size_t indexOf(const std::string& label)
-{
-  for (std::size_t i = 0; i < kDefectCount; ++i)
-  {
-    if (defectLabel(i) == label)
-      return i;
-  }
-  ADD_FAILURE() << "no defect " << label;
-  return 0;
-}
-
 DefectSet setOf(const std::map<std::string, double>& values)
 {
   DefectSet set;
   for (const auto& [label, value] : values)
-    set.values[indexOf(label)] = value;
+    set.values[defectIndex(label)] = value;
   return set;
 }
 

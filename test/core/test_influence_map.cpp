@@ -11,6 +11,7 @@
 #include <vector>
 #include <yaml-cpp/yaml.h>
 
+#include "optics_fixture.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/influence_map.hpp"
 
@@ -22,13 +23,9 @@ namespace scanhead
 {
 namespace
 {
-const std::string kUrdfPath = std::string(SCANHEAD_SOURCE_DIR) + "/urdf/scanhead.urdf";
+const std::string& kUrdfPath = test_support::kNominalUrdfPath;
 
-const OpticalGeometry& nominal()
-{
-  static const OpticalGeometry g = geometryFromUrdfFile(kUrdfPath);
-  return g;
-}
+const OpticalGeometry& nominal() { return test_support::nominalGeometry(); }
 
 const std::vector<InfluenceRow>& table()
 {
@@ -36,20 +33,9 @@ const std::vector<InfluenceRow>& table()
   return rows;
 }
 
-std::size_t indexOf(const std::string& label)
-{
-  for (std::size_t k = 0; k < kDefectCount; ++k)
-  {
-    if (defectLabel(k) == label)
-      return k;
-  }
-  ADD_FAILURE() << "no defect " << label;
-  return 0;
-}
-
 const InfluenceRow& row(const std::string& label)
 {
-  return table()[indexOf(label)];
+  return table()[defectIndex(label)];
 }
 
 bool isElement(std::size_t k, const std::string& element)
@@ -110,8 +96,8 @@ TEST(InfluenceMap, ZeroDefectGivesZeroInfluence)
 {
   // A defect of 0 leaves the geometry bit for bit, so I = 0 exactly (no tolerance).
   DefectSet zero;
-  zero.values[indexOf("mirror_x.a")] = 0.0;
-  zero.values[indexOf("source.y")] = -0.0;
+  zero.values[defectIndex("mirror_x.a")] = 0.0;
+  zero.values[defectIndex("source.y")] = -0.0;
   for (const DefectSet& set : { DefectSet(), zero })
   {
     const DefectField field = defectField(nominal(), OpticsConfig(), set, 11);
@@ -266,7 +252,7 @@ TEST(InfluenceMap, KnownExactInfluences)
   // Work plane raised by δ = 1 mm: the straight ray below the windows meets it earlier,
   // I(θ) = δ·d_h/d_z (d = beam direction at the plane), exact for a translation along the normal.
   DefectSet raised;
-  raised.values[indexOf("work_plane.z")] = 1.0;
+  raised.values[defectIndex("work_plane.z")] = 1.0;
   const DefectField field = defectField(nominal(), config, raised, 9);
   double worst = 0.0;
   for (std::size_t p = 0; p < field.angles_rad.size(); ++p)

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <string>
 
+#include "optics_fixture.hpp"
 #include "scanhead/core/nominal_closed_form.hpp"
 #include "scanhead/core/optical_model.hpp"
 
@@ -19,7 +20,7 @@ namespace scanhead
 {
 namespace
 {
-const std::string kUrdfPath = std::string(SCANHEAD_SOURCE_DIR) + "/urdf/scanhead.urdf";
+const std::string& kUrdfPath = test_support::kNominalUrdfPath;
 
 /// Agreement required between two exact models [m]: both are double-precision evaluations of
 /// ~1 m lengths with a few dozen operations, so they agree to ~1e-15 m; 1e-9 m (the brief's bound)

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "optics_fixture.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/optical_defects.hpp"
 
@@ -26,7 +27,7 @@ namespace scanhead
 {
 namespace
 {
-const std::string kUrdfPath = std::string(SCANHEAD_SOURCE_DIR) + "/urdf/scanhead.urdf";
+const std::string& kUrdfPath = test_support::kNominalUrdfPath;
 const std::string kDefectsDir = std::string(SCANHEAD_SOURCE_DIR) + "/config/defects/";
 
 std::string readFile(const std::string& path)
@@ -37,11 +38,7 @@ std::string readFile(const std::string& path)
   return text.str();
 }
 
-const OpticalGeometry& nominal()
-{
-  static const OpticalGeometry g = geometryFromUrdfFile(kUrdfPath);
-  return g;
-}
+const OpticalGeometry& nominal() { return test_support::nominalGeometry(); }
 
 std::array<const Eigen::Isometry3d*, 8> poses(const OpticalGeometry& g)
 {
@@ -82,17 +79,6 @@ DefectSet single(std::size_t index, double value)
   set.name = defectLabel(index);
   set.values[index] = value;
   return set;
-}
-
-std::size_t indexOf(const std::string& label)
-{
-  for (std::size_t k = 0; k < kDefectCount; ++k)
-  {
-    if (defectLabel(k) == label)
-      return k;
-  }
-  ADD_FAILURE() << "no component " << label;
-  return 0;
 }
 
 std::string tempPath(const std::string& name)
@@ -164,7 +150,7 @@ TEST(OpticalDefects, MappingPutsEachComponentOnItsJointAxis)
   };
   for (const Row& row : rows)
   {
-    const std::array<ElementDefect, 8> d = elementDefects(single(indexOf(row.label), 1.0));
+    const std::array<ElementDefect, 8> d = elementDefects(single(defectIndex(row.label), 1.0));
     for (std::size_t j = 0; j < 8; ++j)
     {
       for (int axis = 0; axis < 3; ++axis)
@@ -336,8 +322,8 @@ TEST(OpticalDefects, WorkPlaneTranslationShiftsSpotsBack)
   // hits the same base point p, expressed in the moved frame, R^T (p − o − t) = spot − (dx, dy).
   // Tolerance 1e-12 m: rounding of ~0.2 m numbers.
   DefectSet set;
-  set.values[indexOf("work_plane.x")] = 1.5;
-  set.values[indexOf("work_plane.y")] = -0.7;
+  set.values[defectIndex("work_plane.x")] = 1.5;
+  set.values[defectIndex("work_plane.y")] = -0.7;
   const OpticalModel moved(applyDefects(nominal(), set), OpticsConfig());
   const OpticalModel base(nominal(), OpticsConfig());
   for (const Eigen::Vector2d& q : fieldAngles())
@@ -619,7 +605,7 @@ TEST(OpticalDefects, UrdfWithDefectsEdgeCases)
   ASSERT_NE(at, std::string::npos);
   const std::string no_origin = std::string(text).erase(at, origin.size());
   DefectSet set;
-  set.values[indexOf("mirror_y.a")] = 0.5;
+  set.values[defectIndex("mirror_y.a")] = 0.5;
   const OpticalGeometry read = geometryFromUrdf(urdfWithDefects(no_origin, set, "no_origin.urdf"), "x");
   EXPECT_LT((read.mirror_y.matrix() - applyDefects(nominal(), set).mirror_y.matrix()).cwiseAbs().maxCoeff(), 1e-15);
   // A commented-out decoy is not edited.

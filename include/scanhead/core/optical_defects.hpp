@@ -36,8 +36,11 @@ struct DefectComponent
 /// axis_y y z a b c; mirror_y z a b; window_1 a b; window_2 a b; work_plane x y z a b c.
 const std::array<DefectComponent, kDefectCount>& defectComponents();
 
-/// \brief "source.y", "axis_x.a", ... (for reports).
+/// \brief "source.y", "axis_x.a", ... (for reports). \throws std::out_of_range if index >= 30
 std::string defectLabel(std::size_t index);
+
+/// \brief The index of "element.component". \throws InputError listing the 30 labels
+std::size_t defectIndex(const std::string& label);
 
 /// \brief A defect set: the 30 values in the OPT convention.
 struct DefectSet
