@@ -43,8 +43,10 @@ std::string resolvePackagePath(const std::string& path)
 
 OpticalModel loadOpticalModel(const OpticsConfig& config)
 {
-  const OpticalGeometry nominal = geometryFromUrdfFile(resolvePackagePath(config.urdf_path));
-  return OpticalModel(applyDefects(nominal, loadDefects(config)), config);
+  // Through the URDF text of the defective machine, as the graph reads it from robot_description:
+  // the same parser on the same numbers, so the batch runner and the graph are bit-identical.
+  const std::string path = resolvePackagePath(config.urdf_path);
+  return OpticalModel(geometryFromUrdf(urdfWithDefects(readUrdfFile(path), loadDefects(config), path), path), config);
 }
 
 DefectSet loadDefects(const OpticsConfig& config)

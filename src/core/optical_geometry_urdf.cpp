@@ -145,7 +145,7 @@ OpticalGeometry geometryFromUrdf(const std::string& urdf_xml, const std::string&
   return g;
 }
 
-OpticalGeometry geometryFromUrdfFile(const std::string& path)
+std::string readUrdfFile(const std::string& path)
 {
   std::ifstream in(path);
   if (!in)
@@ -154,6 +154,11 @@ OpticalGeometry geometryFromUrdfFile(const std::string& path)
   }
   std::ostringstream text;
   text << in.rdbuf();
-  return geometryFromUrdf(text.str(), path);
+  return text.str();
+}
+
+OpticalGeometry geometryFromUrdfFile(const std::string& path)
+{
+  return geometryFromUrdf(readUrdfFile(path), path);
 }
 }  // namespace scanhead

@@ -146,16 +146,6 @@ std::vector<double> numbers(const Arguments& a, const std::vector<std::string>& 
   return values;
 }
 
-std::string readText(const std::string& path)
-{
-  std::ifstream in(path);
-  if (!in)
-    throw scanhead::InputError(path + ": cannot open URDF file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 /// The machine: the nominal URDF with the defect set applied.
 struct Machine
 {
@@ -175,8 +165,7 @@ Machine loadMachine(const Arguments& a)
   const DefectSet defects = loadDefects(config.optics);  // the forms of defectSetByName, files resolved
   const std::string urdf_path = resolvePackagePath(config.optics.urdf_path);
   const OpticalGeometry nominal = geometryFromUrdfFile(urdf_path);
-  OpticalModel optics(applyDefects(nominal, defects), config.optics);
-  return Machine{ config, urdf_path, nominal, defects, optics };
+  return Machine{ config, urdf_path, nominal, defects, loadOpticalModel(config.optics) };  // as the batch runner
 }
 
 void printReport(const char* key, const scanhead::TableErrorReport& r)
@@ -297,7 +286,7 @@ int main(int argc, char** argv)
     else if (args.command == "urdf")
     {
       numbers(args, {});
-      std::cout << urdfWithDefects(readText(machine.urdf_path), machine.defects, machine.urdf_path);
+      std::cout << urdfWithDefects(readUrdfFile(machine.urdf_path), machine.defects, machine.urdf_path);
     }
     else if (args.command == "residual")
       return residual(args, machine);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # With the NC options on (table IGT, adaptive filters, power ~ speed, quantisation; a THESIS recipe
 # with delays, skywriting, capped speeds, power ~ predicted speed and the bilinear table), the live
-# graph and the batch runner write identical metrics.yaml.
+# graph and the batch runner write identical metrics.yaml; also on the OPT table 2 machine (defects:=).
 # Registered with CTest (see CMakeLists.txt); needs the installed package on the environment.
 set -euo pipefail
 run=${1:-scanhead_run}
@@ -10,13 +10,16 @@ tmp=$(mktemp -d /tmp/scanhead_options.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 export ROS_IP=127.0.0.1
 export ROS_MASTER_URI="http://127.0.0.1:$((20000 + $$ % 10000))"
-compare() {  # name job settings...
-  local name=$1 job=$2
+compare() {  # name job settings... (optics.defects=SET goes to the launch file's defects:=)
+  local name=$1 job=$2 defects=nominal
   shift 2
-  local set_args=()
-  for s in "$@"; do set_args+=(--set "$s"); done
-  timeout 180 roslaunch "$launch_dir/virtual_machine.launch" job:="$job" out:="$tmp/$name-graph" set:="$*" \
-    > "$tmp/$name.log" 2>&1 || { cat "$tmp/$name.log"; exit 1; }
+  local set_args=() graph_set=()
+  for s in "$@"; do
+    set_args+=(--set "$s")
+    case $s in optics.defects=*) defects=${s#optics.defects=};; *) graph_set+=("$s");; esac
+  done
+  timeout 180 roslaunch "$launch_dir/virtual_machine.launch" job:="$job" out:="$tmp/$name-graph" \
+    defects:="$defects" set:="${graph_set[*]}" > "$tmp/$name.log" 2>&1 || { cat "$tmp/$name.log"; exit 1; }
   "$run" --job "$job" --out "$tmp/$name-batch" --quiet "${set_args[@]}"
   if ! cmp "$tmp/$name-batch/metrics.yaml" "$tmp/$name-graph/metrics.yaml"; then
     diff "$tmp/$name-batch/metrics.yaml" "$tmp/$name-graph/metrics.yaml" || true
@@ -28,6 +31,7 @@ compare() {  # name job settings...
 }
 compare filters "corner:speed=2,angle=90" nc.igt.mode=table nc.igt.table_interpolation=bicubic \
   nc.filter_mode=adaptive nc.power_mode=speed nc.quantisation_bits=18
+compare defects "corner:speed=2,angle=90" optics.defects=opt_table2 nc.igt.mode=table
 compare timing "squares:recipe=1,rows=1,columns=1,spacing=0.003" recipe.preset=thesis1 nc.skywriting.enabled=true \
   nc.mark_delay_s=100e-6 nc.jump_delay_s=250e-6 nc.polygon_delay_s=40e-6 nc.polygon_delay_mode=angle \
   nc.cap_speeds=true nc.power_mode=predicted nc.igt.mode=table

@@ -44,6 +44,9 @@ struct OpticalGeometry
 ///         revolute about (0, 0, 1), or a non-fixed joint on a path that must be rigid
 OpticalGeometry geometryFromUrdf(const std::string& urdf_xml, const std::string& source_name);
 
+/// \brief The text of a URDF file. \throws InputError naming the file if it cannot be read
+std::string readUrdfFile(const std::string& path);
+
 /// \brief Reads a URDF file and calls geometryFromUrdf. \throws InputError
 OpticalGeometry geometryFromUrdfFile(const std::string& path);
 
