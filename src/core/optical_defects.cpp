@@ -567,6 +567,10 @@ DefectSet defectSetByName(const std::string& spec)
 
 std::string urdfWithDefects(const std::string& nominal_urdf, const DefectSet& set, const std::string& source_name)
 {
+  if (set.isNominal())
+  {
+    return nominal_urdf;  // the URDF as it is, its own defect joints included
+  }
   const UrdfText urdf(nominal_urdf);
   const std::array<ElementDefect, 8> defects = elementDefects(set);
   struct Edit

@@ -592,7 +592,7 @@ TEST(OpticalDefects, UrdfWithDefectsIsTheAppliedMachine)
     EXPECT_FALSE(static_cast<bool>(std::getline(after, line_after)));
     EXPECT_EQ(changed, 8) << set.name;
   }
-  // The nominal set writes zero origins, which our URDF already has: the same bytes.
+  // The nominal set leaves the URDF as it is.
   EXPECT_EQ(urdfWithDefects(text, DefectSet(), "scanhead.urdf"), text);
 }
 

@@ -87,7 +87,8 @@ DefectSet randomDefectSet(std::uint64_t seed, double bound_mm = 0.1, double boun
 DefectSet defectSetByName(const std::string& spec);
 
 /// \brief \p nominal_urdf with the origins of the 8 `<element>_defect_joint` joints replaced by
-/// elementDefects(set) (full precision); everything else unchanged.
+/// elementDefects(set) (full precision); everything else unchanged. A nominal set returns the text
+/// as it is (a URDF that already carries defects in its joints keeps them).
 /// \throws InputError naming \p source_name if a defect joint is missing
 std::string urdfWithDefects(const std::string& nominal_urdf, const DefectSet& set, const std::string& source_name);
 }  // namespace scanhead
