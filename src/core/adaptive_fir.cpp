@@ -50,6 +50,9 @@ void checkLimits(const PlaneLimits& limits)
 /// Relative excess over a limit that triggers a lengthening (far above rounding, ~1e-15, far
 /// below anything measurable).
 constexpr double kLimitSlack = 1e-12;
+/// A lengthened kernel gets 2 % more than the excess it took part in: without a margin, close
+/// reversals hand the excess from kernel to kernel and converge only after hundreds of passes.
+constexpr double kLengthenMargin = 1.02;
 }  // namespace
 
 FilterDurations minimalDurations(double step_mps, const PlaneLimits& limits)
@@ -174,7 +177,7 @@ AdaptiveFir::AdaptiveFir(const PathTimeline& timeline, const PlaneLimits& limits
     jerk_step[k] = accel_step[k];
   }
   std::vector<char> changed(knots_.size(), 1);  // first pass: check everywhere
-  constexpr int kMaxPasses = 200;
+  constexpr int kMaxPasses = 1000;
   int pass = 0;
   for (; pass < kMaxPasses; ++pass)
   {
@@ -336,11 +339,11 @@ bool AdaptiveFir::lengthenWhereOverlapsExceed(std::vector<double>& accel_step_mp
         // every kernel taking part is lengthened as if its step were that much larger
         if (accel_over)
         {
-          accel_scale[k] = std::max(accel_scale[k], accel_ratio * (1.0 + kLimitSlack));
+          accel_scale[k] = std::max(accel_scale[k], accel_ratio * kLengthenMargin);
         }
         if (jerk_over)
         {
-          jerk_scale[k] = std::max(jerk_scale[k], jerk_ratio * (1.0 + kLimitSlack));
+          jerk_scale[k] = std::max(jerk_scale[k], jerk_ratio * kLengthenMargin);
         }
       }
     }

@@ -449,6 +449,15 @@ CalibrationResult calibrate(const OpticalGeometry& nominal, const OpticsConfig& 
     throw ConfigError("calibration.noise_m must be >= 0 (got " + fullPrecisionText(options.noise_m) + ")");
   if (measurements.empty())
     throw InputError("calibration: no spot measurements");
+  // 30 unknowns need at least 15 spots (2 coordinates each), or the fit only fits the noise.
+  if (2 * measurements.size() < kDefectCount)
+    throw InputError("calibration: " + std::to_string(measurements.size()) +
+                     " spots for 30 unknowns: measure at least 15 (a grid of 4 x 4 or more)");
+  for (std::size_t k = 0; k < measurements.size(); ++k)
+  {
+    if (!measurements[k].angles_rad.allFinite() || !measurements[k].spot_m.allFinite())
+      throw InputError("calibration: measurement " + std::to_string(k) + " is not finite");
+  }
 
   const SpotModel model(nominal, config, measurements);
   const double spots = static_cast<double>(measurements.size());

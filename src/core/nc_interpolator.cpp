@@ -78,6 +78,23 @@ Recipe followFilteredSetpoint(const NcConfig& config)
 }
 
 constexpr double kLimitSlack = 1.0 + 1e-6;  ///< relative slack before a sample counts as over a limit
+
+/// J̇·q̇ = (dJ/dt)·q̇, the curvature term of ẍ = J q̈ + J̇ q̇: a central difference of the Jacobian
+/// along q̇ (steps of 1e-6 rad: truncation ~1e-12, rounding ~1e-10 relative).
+Eigen::Vector2d jacobianRateTimesVelocity(const OpticalModel& optics, const Eigen::Vector2d& q,
+                                          const Eigen::Vector2d& q_dot)
+{
+  const double speed = q_dot.norm();
+  if (speed == 0.0)
+  {
+    return Eigen::Vector2d::Zero();
+  }
+  constexpr double kStep_rad = 1e-6;
+  const Eigen::Vector2d u = q_dot / speed;
+  const Eigen::Matrix2d rate = (optics.jacobian(q + kStep_rad * u) - optics.jacobian(q - kStep_rad * u)) *
+                               (speed / (2.0 * kStep_rad));
+  return rate * q_dot;
+}
 }  // namespace
 
 /// The inverse geometric transform: Newton on the optics, or the correction table.
@@ -201,7 +218,7 @@ void NcInterpolator::start(const Job& job)
   const PathTimeline& timeline = st->program.timeline;
   if (!timeline.hasPoints())
   {
-    throw InputError("NC: job '" + job.name + "' has no point");
+    throw InputError("NC: job '" + job.name + "' has no move (no point, or all its points are the same)");
   }
 
   // Every point the program visits (skywriting adds some) must be reachable; checked now so a
@@ -339,6 +356,23 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
     }
   };
 
+  // The debug signals' own inverses (adaptive mode), abandoned the same way on failure.
+  auto solveOrAbandon = [&](const Eigen::Vector2d& x, const Eigen::Vector2d& guess, std::uint64_t n,
+                            double t_s) -> Eigen::Vector2d {
+    try
+    {
+      return igt_->solve(optics_, x, guess);
+    }
+    catch (const NumericalError& e)
+    {
+      std::ostringstream msg;
+      msg << "NC: job '" << st.job_name << "' sample " << n << " (t = " << t_s << " s): debug point " << pointText(x)
+          << " is not reachable by the optics: " << e.what();
+      state_.reset();
+      throw NumericalError(msg.str());
+    }
+  };
+
   for (std::size_t i = 0; i < count; ++i)
   {
     const std::uint64_t n = st.next + i;
@@ -395,22 +429,24 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
       const Eigen::Matrix2d inverse_jacobian = optics_.jacobian(q).inverse();
       sp.position = q;
       sp.velocity = inverse_jacobian * filt2.velocity;
-      sp.acceleration = inverse_jacobian * filt2.acceleration;
+      sp.acceleration = inverse_jacobian * (filt2.acceleration - jacobianRateTimesVelocity(optics_, q, sp.velocity));
       plane_speed = filt2.velocity.norm();
       if (config_.debug)
       {
         NcDebugSample& dbg = out.debug.samples[i];
         const PlaneState filt1 = st.adaptive_fir.firstStage(t_s, st.filt1_cursor);
         dbg.x_inter = x;
-        dbg.q_inter = igt_->solve(optics_, x, st.q_inter_prev);
+        dbg.q_inter = solveOrAbandon(x, st.q_inter_prev, n, t_s);
         dbg.q_inter_velocity = (dbg.q_inter - st.q_inter_prev) / ts;
         dbg.q_inter_acceleration = (dbg.q_inter - 2.0 * st.q_inter_prev + st.q_inter_prev2) / (ts * ts);
         st.q_inter_prev2 = st.q_inter_prev;
         st.q_inter_prev = dbg.q_inter;
-        dbg.q_filt1 = igt_->solve(optics_, filt1.position, q);
+        dbg.q_filt1 = solveOrAbandon(filt1.position, q, n, t_s);
         const Eigen::Matrix2d filt1_inverse_jacobian = optics_.jacobian(dbg.q_filt1).inverse();
         dbg.q_filt1_velocity = filt1_inverse_jacobian * filt1.velocity;
-        dbg.q_filt1_acceleration = filt1_inverse_jacobian * filt1.acceleration;
+        dbg.q_filt1_acceleration =
+            filt1_inverse_jacobian *
+            (filt1.acceleration - jacobianRateTimesVelocity(optics_, dbg.q_filt1, dbg.q_filt1_velocity));
       }
     }
 

@@ -285,7 +285,9 @@ private:
       const double cross = d_in.x() * d_out.y() - d_in.y() * d_out.x();
       const double gamma_rad = std::atan2(std::abs(cross), d_in.dot(d_out));  // direction change in [0, π]
       const Eigen::Vector2d& corner = seg.start_m;
-      if (sky_ && gamma_rad > min_angle_rad_)
+      // Below 1 µrad a vertex is straight (rounding of collinear points gives ~1e-15 rad).
+      constexpr double kStraight_rad = 1e-6;
+      if (sky_ && gamma_rad > std::max(min_angle_rad_, kStraight_rad))
       {
         // run-out along the incoming direction, turn, run-in back to the corner: laser off
         const Eigen::Vector2d out_end = corner + d_in * run_out_m;
@@ -295,7 +297,7 @@ private:
         out_.skyMove(in_start, corner, v_mps, seg.polyline, seg.vertex);
         ++stats_.skywritten_corners;
       }
-      else if (gamma_rad > 0.0)
+      else if (gamma_rad > kStraight_rad)
       {
         const double hold_s =
             options_.polygon_delay_by_angle ? options_.polygon_delay_s * (gamma_rad / kPi) : options_.polygon_delay_s;

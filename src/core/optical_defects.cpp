@@ -612,6 +612,20 @@ std::string urdfWithDefects(const std::string& nominal_urdf, const DefectSet& se
       std::size_t end = nominal_urdf.find('>', at);
       if (end == std::string::npos || end > close)
         throw InputError(source_name + ": joint '" + joint + "': unterminated <origin");
+      // A set replaces the defect joints of the NOMINAL head: a URDF that already carries a
+      // defect would silently lose it (defects nominal keeps such a URDF as it is).
+      for (const char* key : { "xyz", "rpy" })
+      {
+        std::istringstream numbers(urdf.attribute(at, end, key));
+        for (double v = 0.0; numbers >> v;)
+        {
+          if (v != 0.0)
+            throw InputError(source_name + ": joint '" + joint + "' already carries a defect (" + key + "=\"" +
+                             urdf.attribute(at, end, key) +
+                             "\"): a defect set replaces the defect joints of the nominal URDF; give the nominal "
+                             "URDF, or the set nominal to use this one as it is");
+        }
+      }
       if (nominal_urdf[end - 1] != '/')
       {
         end = urdf.find("</origin>", end, close);

@@ -2,6 +2,8 @@
 
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -63,17 +65,23 @@ std::unique_ptr<OpticalModel> opticalModelFromParams(const ros::NodeHandle& nh, 
   if (!nh.getParam("robot_description", urdf))
     throw InputError("parameter robot_description is not set: load urdf/scanhead.urdf into it (see launch/)");
   auto model = std::make_unique<OpticalModel>(geometryFromUrdf(urdf, nh.resolveName("robot_description")), config);
-  // robot_description must be the machine optics.defects names (the launch file's defects:= sets
-  // both): the batch runner builds it from the nominal URDF and the set, the graph from the URDF.
-  const OpticalModel expected = loadOpticalModel(config);
-  for (const Eigen::Vector2d& q : { Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.1, -0.1), Eigen::Vector2d(-0.12, 0.08) })
+  // robot_description must be the machine optics.urdf_path + optics.defects name (the launch
+  // file's urdf:= and defects:= set both): every frame and the joint range, to 1e-12.
+  const OpticalGeometry& got = model->geometry();
+  const OpticalGeometry want = loadOpticalModel(config).geometry();
+  const Eigen::Isometry3d OpticalGeometry::*frames[] = { &OpticalGeometry::source,   &OpticalGeometry::mount_x,
+                                                          &OpticalGeometry::mirror_x, &OpticalGeometry::mount_y,
+                                                          &OpticalGeometry::mirror_y, &OpticalGeometry::window_1,
+                                                          &OpticalGeometry::window_2, &OpticalGeometry::work_plane };
+  double worst = std::max(std::abs(got.joint_lower_rad - want.joint_lower_rad),
+                          std::abs(got.joint_upper_rad - want.joint_upper_rad));
+  for (const auto frame : frames)
+    worst = std::max(worst, ((got.*frame).matrix() - (want.*frame).matrix()).cwiseAbs().maxCoeff());
+  if (worst > 1e-12)
   {
-    if ((model->spot(q) - expected.spot(q)).norm() > 1e-9)
-    {
-      throw InputError("robot_description is not the machine optics.defects = '" + config.defects +
-                       "' names (spots differ at angles (" + std::to_string(q.x()) + ", " + std::to_string(q.y()) +
-                       ") rad): launch with defects:=" + config.defects + ", which generates both");
-    }
+    throw InputError("robot_description is not the machine optics.urdf_path = '" + config.urdf_path +
+                     "' with optics.defects = '" + config.defects + "' (frames differ by " + std::to_string(worst) +
+                     "): launch with urdf:= and defects:=, which set both");
   }
   return model;
 }

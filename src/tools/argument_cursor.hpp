@@ -44,7 +44,7 @@ public:
   /// \brief The value that follows the current option. \throws ConfigError if there is none
   std::string value()
   {
-    if (index_ + 1 >= argc_)
+    if (index_ + 1 >= argc_ || std::string(argv_[index_ + 1]).rfind("--", 0) == 0)
       throw ConfigError(arg_ + " needs a value\n" + usage_);
     return argv_[++index_];
   }

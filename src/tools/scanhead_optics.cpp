@@ -1,6 +1,9 @@
 // scanhead_optics: the optical chain of a machine with its assembly defects (SPEC §4, OPT):
 // direct and inverse models, the URDF of the machine, the correction-table residual, the
 // defects' influence maps, and the calibration of a machine from measured spots.
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -63,14 +66,35 @@ struct Arguments
   std::string defects;                  ///< empty: the config's optics.defects
   int nodes = 0;                        ///< 0: nc.igt.table_nodes
   int probes = 129;
-  bool probes_given = false;
   std::string interpolation;            ///< empty: nc.igt.table_interpolation
   std::string out;                      ///< influence, field: output folder
   int grid = 0;                         ///< influence, field, calibrate: 0 = the command's default
   double noise_m = 1e-6;                ///< calibrate
   std::uint64_t seed = 1;               ///< calibrate: noise seed
   scanhead::ConfigArguments config;
+  std::vector<std::string> given;       ///< the command's own options that were given
 };
+
+/// The options each command takes (besides --config and --set).
+const std::vector<std::pair<std::string, std::vector<std::string>>> kCommandOptions = {
+  { "trace", { "--defects" } },
+  { "inverse", { "--defects" } },
+  { "urdf", { "--defects" } },
+  { "residual", { "--defects", "--nodes", "--probes", "--interpolation" } },
+  { "influence", { "--out", "--grid" } },
+  { "field", { "--defects", "--out", "--grid" } },
+  { "calibrate", { "--defects", "--grid", "--noise", "--seed" } },
+};
+
+std::uint64_t seedArgument(const std::string& text)
+{
+  errno = 0;
+  char* end = nullptr;
+  const unsigned long long value = std::strtoull(text.c_str(), &end, 10);
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || *end != '\0' || errno == ERANGE)
+    throw scanhead::ConfigError("--seed must be an integer in [0, 2^64) (got '" + text + "')");
+  return static_cast<std::uint64_t>(value);
+}
 
 double nonNegativeNumber(const std::string& option, const std::string& text)
 {
@@ -88,15 +112,14 @@ Arguments parse(int argc, char** argv)
   {
     if (a.config.take(args))
       continue;
+    if (args.isOption())
+      a.given.push_back(args.arg());
     if (args.is("--defects"))
       a.defects = args.value();
     else if (args.is("--nodes"))
       a.nodes = scanhead::integerAtLeastTwo("--nodes", args.value());
     else if (args.is("--probes"))
-    {
       a.probes = scanhead::integerAtLeastTwo("--probes", args.value());
-      a.probes_given = true;
-    }
     else if (args.is("--interpolation"))
       a.interpolation = args.value();
     else if (args.is("--out"))
@@ -106,7 +129,7 @@ Arguments parse(int argc, char** argv)
     else if (args.is("--noise"))
       a.noise_m = nonNegativeNumber("--noise", args.value());
     else if (args.is("--seed"))
-      a.seed = static_cast<std::uint64_t>(nonNegativeNumber("--seed", args.value()));
+      a.seed = seedArgument(args.value());
     else if (args.isOption())
       args.reject();
     else if (a.command.empty())
@@ -116,11 +139,15 @@ Arguments parse(int argc, char** argv)
   }
   if (a.command.empty())
     throw scanhead::ConfigError(std::string("no command (commands: ") + kCommands + ")\n" + kUsage);
-  if (a.command != "trace" && a.command != "inverse" && a.command != "urdf" && a.command != "residual" &&
-      a.command != "influence" && a.command != "field" && a.command != "calibrate")
+  const auto command = std::find_if(kCommandOptions.begin(), kCommandOptions.end(),
+                                    [&](const auto& c) { return c.first == a.command; });
+  if (command == kCommandOptions.end())
     throw scanhead::ConfigError("unknown command '" + a.command + "' (commands: " + kCommands + ")\n" + kUsage);
-  if (a.command != "residual" && (a.nodes != 0 || a.probes_given || !a.interpolation.empty()))
-    throw scanhead::ConfigError("--nodes, --probes and --interpolation are options of residual, not of " + a.command);
+  for (const std::string& option : a.given)
+  {
+    if (std::find(command->second.begin(), command->second.end(), option) == command->second.end())
+      throw scanhead::ConfigError(option + " is not an option of " + a.command + "\n" + kUsage);
+  }
   if ((a.command == "influence" || a.command == "field") && a.out.empty())
     throw scanhead::ConfigError(a.command + " needs --out DIR\n" + kUsage);
   return a;
@@ -253,7 +280,8 @@ int calibrate(const Arguments& a, const Machine& m)
   const int nodes = m.config.nc.igt.table_nodes;
   std::cout << "machine: " << m.defects.name << "\n"
             << "measurements: " << measured.size() << "\n"
-            << "noise_m: " << fullPrecisionText(a.noise_m) << "\n";
+            << "noise_m: " << fullPrecisionText(a.noise_m) << "\n"
+            << "table: {nodes: " << nodes << ", interpolation: bicubic, probes_per_axis: 129}\n";
   printReport("before_nominal_table",
               measureTableError(CorrectionTable::build(nominal, nodes, h), TableInterpolation::Bicubic, m.optics, 129));
   printReport("after_identified_table",
@@ -273,6 +301,13 @@ int main(int argc, char** argv)
     if (args.command == "trace")
     {
       const std::vector<double> q = numbers(args, { "THETA_X", "THETA_Y" });
+      const OpticalGeometry& g = machine.optics.geometry();
+      for (const double angle : q)
+      {
+        if (angle < g.joint_lower_rad || angle > g.joint_upper_rad)
+          throw ConfigError("angle " + fullPrecisionText(angle) + " rad is outside the galvos' range [" +
+                            fullPrecisionText(g.joint_lower_rad) + ", " + fullPrecisionText(g.joint_upper_rad) + "]");
+      }
       const Eigen::Vector2d spot = machine.optics.spot(Eigen::Vector2d(q[0], q[1]));
       // The spot lies on the plane z = 0 of the work-plane frame.
       std::cout << fullPrecisionText(spot.x()) << " " << fullPrecisionText(spot.y()) << " 0\n";

@@ -89,8 +89,7 @@ int main(int argc, char** argv)
     if (!args.defects.empty())
       machine.defects = args.defects;
     const DefectSet defects = loadDefects(machine);  // the forms of defectSetByName, files resolved
-    const OpticalGeometry nominal = geometryFromUrdfFile(resolvePackagePath(config.optics.urdf_path));
-    const OpticalModel optics(applyDefects(nominal, defects), config.optics);
+    const OpticalModel optics = loadOpticalModel(machine);  // the machine as the batch runner builds it
 
     const CorrectionTable table =
         args.load.empty()

@@ -363,10 +363,9 @@ TEST(AdaptiveFir, SingleReversalUsesTheLimits)
 
 // Two reversals exactly T1 = 1.2 ms apart at 12 m/s: the falling jerk ramp of the first kernel
 // [t1 + a, t1 + h] coincides with the rising ramp of the second, the jerks add: 4V/(T1·T2) = 2·J.
-// The fix doubles the jerk step of both kernels only: T1 stays 2V/A = 1.2 ms, T2 becomes
-// 2A/J = 266.7 µs (1e-9 relative: the repair overshoots by 1e-12 per pass), the ramps still
-// coincide and the peak jerk is exactly J (within 1 %, and <= J·(1 + 1e-6) sampled every 1 µs);
-// the start and end knots keep T2 = A/J.
+// The fix doubles the jerk step of both kernels only (plus the 2 % margin of a lengthening):
+// T1 stays 2V/A = 1.2 ms, T2 becomes 1.02·2A/J, the ramps still coincide and the peak jerk is
+// within 3 % below J (and <= J·(1 + 1e-6) sampled every 1 µs); the start and end knots keep T2 = A/J.
 TEST(AdaptiveFir, DoubleReversalIsLengthenedJustEnough)
 {
   const PlaneLimits lim = galvoLimits();
@@ -379,7 +378,8 @@ TEST(AdaptiveFir, DoubleReversalIsLengthenedJustEnough)
   for (std::size_t k = 0; k < 4; ++k)
   {
     const FilterDurations& d = fir.knots()[k].durations;
-    const double expected_t2 = (k == 1 || k == 2) ? 2.0 * t2 : t2;
+    // the two reversals' kernels get twice the jerk budget's T2, plus the 2 % lengthening margin
+    const double expected_t2 = (k == 1 || k == 2) ? 2.0 * 1.02 * t2 : t2;
     EXPECT_NEAR(d.t1_s, t1, 1e-9 * t1) << "knot " << k;
     EXPECT_NEAR(d.t2_s, expected_t2, 1e-9 * expected_t2) << "knot " << k;
   }
@@ -395,7 +395,7 @@ TEST(AdaptiveFir, DoubleReversalIsLengthenedJustEnough)
     prev = s.acceleration;
   }
   EXPECT_LE(max_j, lim.max_jerk_mps3 * (1.0 + 1e-6));
-  EXPECT_GT(max_j, 0.99 * lim.max_jerk_mps3);
+  EXPECT_GT(max_j, 0.97 * lim.max_jerk_mps3);  // within the lengthening margin of the limit
   EXPECT_LE(max_a, lim.max_accel_mps2 * (1.0 + 1e-9));
 }
 
@@ -550,3 +550,27 @@ TEST(AdaptiveFir, EmptyPath)
   const AdaptiveFir none;
   EXPECT_EQ(none.filtered(1.0, c).velocity, Eigen::Vector2d::Zero());
 }
+
+// Dense reversals (a 4000-stroke zigzag of 10 µm at 0.5 m/s, the review's case that needed 668
+// passes without a margin) settle within the pass budget and stay within the limits.
+TEST(AdaptiveFir, DenseZigzagSettles)
+{
+  const PlaneLimits lim = galvoLimits();
+  std::vector<Eigen::Vector2d> points;
+  for (int k = 0; k <= 4000; ++k)
+    points.emplace_back(0.0, (k % 2) ? 10e-6 : 0.0);
+  scanhead::Job job;
+  scanhead::Polyline line;
+  line.speed_mps = 0.5;
+  line.power_w = 100.0;
+  line.points = points;
+  job.polylines.push_back(line);
+  const scanhead::PathTimeline path(job, 4.5);
+  const AdaptiveFir fir(path, lim);  // threw NumericalError after 200 passes before the margin
+  AdaptiveFir::Cursor c;
+  double max_a = 0.0;
+  for (double t = 0.0; t < 0.02; t += 1e-6)
+    max_a = std::max(max_a, fir.filtered(t, c).acceleration.norm());
+  EXPECT_LE(max_a, lim.max_accel_mps2 * (1.0 + 1e-9));
+}
+

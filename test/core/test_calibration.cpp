@@ -415,6 +415,11 @@ TEST(Calibration, BadInputsThrow)
   bad.noise_m = -1e-6;
   EXPECT_THROW(calibrate(nominal(), config(), m, bad), ConfigError);
   EXPECT_THROW(calibrate(nominal(), config(), {}, CalibrationOptions()), InputError);
+  const std::vector<SpotMeasurement> few(m.begin(), m.begin() + 14);  // 28 coordinates for 30 unknowns
+  EXPECT_THROW(calibrate(nominal(), config(), few, CalibrationOptions()), InputError);
+  std::vector<SpotMeasurement> nan_spot = m;
+  nan_spot[3].spot_m.x() = std::nan("");
+  EXPECT_THROW(calibrate(nominal(), config(), nan_spot, CalibrationOptions()), InputError);
   EXPECT_THROW(simulateMeasurements(machine, angles(), -1e-6, 1), ConfigError);
   // a commanded angle at which the ray misses the plane (mirror X turned by 1.5 rad)
   std::vector<SpotMeasurement> miss = m;

@@ -16,7 +16,7 @@ struct EnergyConfig
   double corner_min_angle_deg = 1.0;  ///< direction changes above this are reported as corners
   double laser_path_tolerance_m = 30.0e-6;  ///< laser on farther than this from its mark: early/late/off path (THESIS 30 µm class)
   double track_exclude_ends_m = 100.0e-6;   ///< track energy: the start and end of each track left out (~3 spot radii)
-  std::size_t track_max_samples = 1000000;  ///< track energy kept for jobs with at most this many laser-on samples (64 B each)
+  std::size_t track_max_samples = 1000000;  ///< track energy kept for jobs with at most this many laser-on samples (+1 per burst; 64 B each)
 
   void validate() const;
 };

@@ -36,7 +36,7 @@ struct NcProgramStats
   std::size_t delay_holds = 0;          ///< mark + jump delay holds inserted
   std::size_t polygon_holds = 0;        ///< polygon delay holds inserted
   std::size_t skywritten_corners = 0;   ///< corners replaced by run-out, turn, run-in
-  double added_time_s = 0.0;            ///< program duration − Σ L/v of the recipe's job [s]
+  double added_time_s = 0.0;            ///< program duration − Σ L/v of the recipe's job after the speed cap [s]
 };
 
 struct NcProgram
