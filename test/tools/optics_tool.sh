@@ -91,7 +91,9 @@ expect_error "not reachable" inverse 0.5 0
 expect_error "unknown defect set 'typical'" trace --defects typical 0 0
 expect_error "random:seed=N" trace --defects random:seed=x 0 0
 expect_error "missing.yaml: cannot open" trace --defects "$tmp/missing.yaml" 0 0
-expect_error "options of residual" trace --nodes 9 0 0
+expect_error "--nodes is not an option of trace" trace --nodes 9 0 0
+expect_error "--seed must be an integer" calibrate --seed 1.5
+expect_error "outside the galvos" trace 0.5 0
 expect_error "--interpolation must be bilinear or bicubic" residual --interpolation cubic
 expect_error "unknown argument '--bogus'" urdf --bogus
 printf 'mirror_x: {x: 0.1}\n' > "$tmp/bad.yaml"
