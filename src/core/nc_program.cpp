@@ -287,7 +287,8 @@ private:
       const Eigen::Vector2d& corner = seg.start_m;
       // Below 1 µrad a vertex is straight (rounding of collinear points gives ~1e-15 rad).
       constexpr double kStraight_rad = 1e-6;
-      if (sky_ && gamma_rad > std::max(min_angle_rad_, kStraight_rad))
+      // (zero run lengths: nothing to skywrite, the corner keeps its polygon hold)
+      if (sky_ && run_in_m + run_out_m > 0.0 && gamma_rad > std::max(min_angle_rad_, kStraight_rad))
       {
         // run-out along the incoming direction, turn, run-in back to the corner: laser off
         const Eigen::Vector2d out_end = corner + d_in * run_out_m;
