@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "scanhead/core/config_check.hpp"
+#include "scanhead/core/segment_distance.hpp"
 
 namespace scanhead
 {
@@ -13,13 +14,6 @@ namespace
 /// A spot that has not met its mark after this many segments is far off anyway: bounds the scan.
 constexpr std::size_t kMaxEarlySegments = 64;
 
-double distanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b)
-{
-  const Eigen::Vector2d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double u = length2 > 0.0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (p - (a + u * ab)).norm();
-}
 }  // namespace
 
 LaserSettlingCheck::LaserSettlingCheck(const NcProgram& program, double gate_shift_s, double filter_delay_s,
@@ -58,10 +52,10 @@ void LaserSettlingCheck::process(const SpotChunk& chunk)
     {
       // Distance to the burst's path up to where the filtered path is (at least its first segment).
       const double path_s = t_s - filter_delay_s_;
-      double d = distanceToSegment(s.actual, segments_[w.first].a, segments_[w.first].b);
+      double d = pointSegmentDistance(s.actual, segments_[w.first].a, segments_[w.first].b);
       const std::size_t scan_end = std::min(w.end, w.first + kMaxEarlySegments);
       for (std::size_t k = w.first + 1; k < scan_end && segments_[k].t_start_s <= path_s; ++k)
-        d = std::min(d, distanceToSegment(s.actual, segments_[k].a, segments_[k].b));
+        d = std::min(d, pointSegmentDistance(s.actual, segments_[k].a, segments_[k].b));
       if (d <= tolerance_m_)
       {
         arrived_window_ = current_;
@@ -76,7 +70,7 @@ void LaserSettlingCheck::process(const SpotChunk& chunk)
     }
     if (t_s - filter_delay_s_ >= w.burst_end_s)
     {
-      const double d = distanceToSegment(s.actual, segments_[w.end - 1].a, segments_[w.end - 1].b);
+      const double d = pointSegmentDistance(s.actual, segments_[w.end - 1].a, segments_[w.end - 1].b);
       if (d > tolerance_m_)
       {
         counts_.late_samples += 1;

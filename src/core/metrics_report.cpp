@@ -15,6 +15,12 @@ std::string stats(const CornerPathStats& s)
   return "{min_speed_mps: " + fullPrecisionText(s.min_speed_mps) + ", max_contour_error_m: " + fullPrecisionText(s.max_contour_error_m) + "}";
 }
 
+/// Full precision, +infinity as YAML's .inf ("none": no speed cap, no mark to measure against).
+std::string numberOrInfinity(double value)
+{
+  return std::isinf(value) && value > 0.0 ? std::string(".inf") : fullPrecisionText(value);
+}
+
 double relative(double value, double reference)
 {
   return reference != 0.0 ? (value - reference) / reference : 0.0;
@@ -36,7 +42,7 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "nc: {capped_polylines: " << m.nc_program.capped_polylines << ", delay_holds: " << m.nc_program.delay_holds
       << ", polygon_holds: " << m.nc_program.polygon_holds << ", skywritten_corners: " << m.nc_program.skywritten_corners
       << ", added_time_s: " << fullPrecisionText(m.nc_program.added_time_s)
-      << ", speed_cap_mps: " << (std::isinf(m.nc_speed_cap_mps) ? std::string(".inf") : fullPrecisionText(m.nc_speed_cap_mps))
+      << ", speed_cap_mps: " << numberOrInfinity(m.nc_speed_cap_mps)
       << ", filter_delay_s: " << fullPrecisionText(m.nc_filter_delay_s) << ", t1_s: " << fullPrecisionText(m.nc_t1_s)
       << ", t2_s: " << fullPrecisionText(m.nc_t2_s) << "}\n";
   out << "laser_early_samples: " << m.laser_early_samples << "\n";
@@ -44,7 +50,7 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "laser_misplaced_energy_j: " << fullPrecisionText(m.laser_misplaced_energy_j) << "\n";
   out << "laser_off_path_samples: " << m.laser_off_path_samples << "\n";
   out << "laser_max_off_path_m: "
-      << (std::isinf(m.laser_max_off_path_m) ? std::string(".inf") : fullPrecisionText(m.laser_max_off_path_m)) << "\n";
+      << numberOrInfinity(m.laser_max_off_path_m) << "\n";
   if (m.track_measured)
   {
     out << "track_energy: {median_jpm2: " << fullPrecisionText(m.track_median_jpm2)

@@ -331,34 +331,9 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
   const bool t2_identity = !st.adaptive && st.fir2.duration() == 0.0;
   const PathTimeline& timeline = st.program.timeline;
 
-  // The IGT with its warm start; a point equal to the previous one reuses its solution.
-  auto inverse = [&](const Eigen::Vector2d& x, std::uint64_t n, double t_s) -> Eigen::Vector2d {
-    if (x == st.x_prev)
-    {
-      return st.q_prev;
-    }
-    try
-    {
-      // Warm start extrapolated from the last two solutions (2·q_{n−1} − q_{n−2}): on a
-      // segment its error is O(q̈·Ts²) ~ 1e-10 rad, so Newton needs one step plus the
-      // converged check (two ray traces) instead of two steps from q_{n−1}.
-      const Eigen::Vector2d q = igt_->solve(optics_, x, 2.0 * st.q_prev - st.q_prev2);
-      st.x_prev = x;
-      return q;
-    }
-    catch (const NumericalError& e)
-    {
-      std::ostringstream msg;
-      msg << "NC: job '" << st.job_name << "' sample " << n << " (t = " << t_s << " s): path point "
-          << pointText(x) << " is not reachable by the optics: " << e.what();
-      state_.reset();  // the job is abandoned: done() is true, start() again to continue
-      throw NumericalError(msg.str());
-    }
-  };
-
-  // The debug signals' own inverses (adaptive mode), abandoned the same way on failure.
-  auto solveOrAbandon = [&](const Eigen::Vector2d& x, const Eigen::Vector2d& guess, std::uint64_t n,
-                            double t_s) -> Eigen::Vector2d {
+  // One IGT solve; on failure the job is abandoned (done() is true, start() again to continue).
+  auto solveOrAbandon = [&](const Eigen::Vector2d& x, const Eigen::Vector2d& guess, std::uint64_t n, double t_s,
+                            const char* what) -> Eigen::Vector2d {
     try
     {
       return igt_->solve(optics_, x, guess);
@@ -366,11 +341,25 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
     catch (const NumericalError& e)
     {
       std::ostringstream msg;
-      msg << "NC: job '" << st.job_name << "' sample " << n << " (t = " << t_s << " s): debug point " << pointText(x)
-          << " is not reachable by the optics: " << e.what();
+      msg << "NC: job '" << st.job_name << "' sample " << n << " (t = " << t_s << " s): " << what << " "
+          << pointText(x) << " is not reachable by the optics: " << e.what();
       state_.reset();
       throw NumericalError(msg.str());
     }
+  };
+
+  // The setpoint's IGT with its warm start; a point equal to the previous one reuses its solution.
+  auto inverse = [&](const Eigen::Vector2d& x, std::uint64_t n, double t_s) -> Eigen::Vector2d {
+    if (x == st.x_prev)
+    {
+      return st.q_prev;
+    }
+    // Warm start extrapolated from the last two solutions (2·q_{n−1} − q_{n−2}): on a segment its
+    // error is O(q̈·Ts²) ~ 1e-10 rad, so Newton needs one step plus the converged check (two ray
+    // traces) instead of two steps from q_{n−1}.
+    const Eigen::Vector2d q = solveOrAbandon(x, 2.0 * st.q_prev - st.q_prev2, n, t_s, "path point");
+    st.x_prev = x;
+    return q;
   };
 
   for (std::size_t i = 0; i < count; ++i)
@@ -436,12 +425,12 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
         NcDebugSample& dbg = out.debug.samples[i];
         const PlaneState filt1 = st.adaptive_fir.firstStage(t_s, st.filt1_cursor);
         dbg.x_inter = x;
-        dbg.q_inter = solveOrAbandon(x, st.q_inter_prev, n, t_s);
+        dbg.q_inter = solveOrAbandon(x, st.q_inter_prev, n, t_s, "debug point");
         dbg.q_inter_velocity = (dbg.q_inter - st.q_inter_prev) / ts;
         dbg.q_inter_acceleration = (dbg.q_inter - 2.0 * st.q_inter_prev + st.q_inter_prev2) / (ts * ts);
         st.q_inter_prev2 = st.q_inter_prev;
         st.q_inter_prev = dbg.q_inter;
-        dbg.q_filt1 = solveOrAbandon(filt1.position, q, n, t_s);
+        dbg.q_filt1 = solveOrAbandon(filt1.position, q, n, t_s, "debug point");
         const Eigen::Matrix2d filt1_inverse_jacobian = optics_.jacobian(dbg.q_filt1).inverse();
         dbg.q_filt1_velocity = filt1_inverse_jacobian * filt1.velocity;
         dbg.q_filt1_acceleration =

@@ -1,6 +1,7 @@
 /// \file run_metrics.cpp
 /// \brief Corner figures (NC §3.2–3.3, SPEC §2 and §5) and stream counters.
 #include "scanhead/core/run_metrics.hpp"
+#include "scanhead/core/segment_distance.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,18 +15,6 @@ namespace
 {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// \brief Exact distance from q to the segment [a, b].
-double pointSegmentDistance(const Eigen::Vector2d& q, const Eigen::Vector2d& a, const Eigen::Vector2d& b)
-{
-  const Eigen::Vector2d d = b - a;
-  const double len2 = d.squaredNorm();
-  if (len2 <= 0.0)
-  {
-    return (q - a).norm();
-  }
-  const double u = std::min(1.0, std::max(0.0, (q - a).dot(d) / len2));
-  return (a + u * d - q).norm();
-}
 
 /// \brief +inf (never touched) becomes NaN ("no data").
 double orNan(double v)

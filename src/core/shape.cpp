@@ -1,4 +1,5 @@
 #include "scanhead/core/number_text.hpp"
+#include "scanhead/core/segment_distance.hpp"
 #include "scanhead/core/shape.hpp"
 
 #include <algorithm>
@@ -45,13 +46,6 @@ bool insideRing(const Ring& ring, const Eigen::Vector2d& p)
   return inside;
 }
 
-double distanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b)
-{
-  const Eigen::Vector2d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
 
 }  // namespace
 
@@ -201,7 +195,7 @@ double distanceToBoundary(const Shape& shape, const Eigen::Vector2d& point_m)
   double best = std::numeric_limits<double>::infinity();
   for (const Ring& ring : shape.rings)
     for (std::size_t i = 0, n = ring.size(); i < n; ++i)
-      best = std::min(best, distanceToSegment(point_m, ring[i], ring[(i + 1) % n]));
+      best = std::min(best, pointSegmentDistance(point_m, ring[i], ring[(i + 1) % n]));
   return best;
 }
 

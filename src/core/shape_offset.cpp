@@ -7,6 +7,7 @@
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/number_text.hpp"
 #include "scanhead/core/shape.hpp"
+#include "scanhead/core/segment_distance.hpp"
 
 namespace scanhead
 {
@@ -108,13 +109,6 @@ bool segmentsCross(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2, const E
   return ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0));
 }
 
-double pointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b)
-{
-  const Eigen::Vector2d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
 
 /// Minimum distance between two segments: 0 if they cross, else reached at one of the four ends.
 double segmentDistance(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2, const Eigen::Vector2d& q1,
