@@ -5,7 +5,8 @@ usage: plot_results.py RESULTS_DIR
 
 Reads trace.csv, job.yaml, metrics.yaml, energy_map.yaml and energy_map_16bit.png written by
 scanhead_run or the energy_accumulator node, and writes energy_map_plot.png, speed.png,
-contour_error.png and corner_zoom.png next to them.
+contour_error.png, corner_zoom.png and quality.png (contour-error distributions by definition and
+kind, angle-error histograms, speed on the marks) next to them.
 """
 import os
 import sys
@@ -17,6 +18,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402
 from PIL import Image  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from quality_plots import quality_figure  # noqa: E402
 
 
 LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
@@ -187,6 +191,9 @@ def main():
     plot_speed(folder, trace, job)
     plot_contour_error(folder, trace, job)
     plot_corner(folder, trace, job, metrics)
+    fig = quality_figure(plt, [(metrics.get("job", "run"), metrics)])
+    fig.savefig(os.path.join(folder, "quality.png"), dpi=110, bbox_inches="tight")
+    plt.close(fig)
 
 
 if __name__ == "__main__":

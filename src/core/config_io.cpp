@@ -133,6 +133,17 @@ void visitSettings(Config& c, F&& f)
   f("energy.laser_path_tolerance_m", c.energy.laser_path_tolerance_m);
   f("energy.track_exclude_ends_m", c.energy.track_exclude_ends_m);
   f("energy.track_max_samples", c.energy.track_max_samples);
+  f("energy.tile_cache_bytes", c.energy.tile_cache_bytes);
+  f("energy.oblique_incidence", c.energy.oblique_incidence);
+  f("energy.defocus_mode", c.energy.defocus_mode);
+  f("energy.defocus_m", c.energy.defocus_m);
+  f("energy.focus_distance_m", c.energy.focus_distance_m);
+  f("energy.wavelength_m", c.energy.wavelength_m);
+  f("energy.beam_quality_m2", c.energy.beam_quality_m2);
+  f("energy.crop_parts", c.energy.crop_parts);
+  f("energy.crop_regions", c.energy.crop_regions);
+  f("energy.contour_max_samples", c.energy.contour_max_samples);
+  f("energy.contour_lag_s", c.energy.contour_lag_s);
 }
 
 std::string origin(const std::string& key, const ConfigValue& v)

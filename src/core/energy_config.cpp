@@ -22,5 +22,20 @@ void EnergyConfig::validate() const
           "in [0, 180)", corner_min_angle_deg);
   requireSetting(laser_path_tolerance_m > 0.0, "energy.laser_path_tolerance_m", "> 0", laser_path_tolerance_m);
   requireSetting(track_exclude_ends_m >= 0.0, "energy.track_exclude_ends_m", ">= 0", track_exclude_ends_m);
+  requireSetting(track_max_samples >= 1, "energy.track_max_samples", ">= 1", static_cast<double>(track_max_samples));
+  requireSetting(tile_cache_bytes >= 1048576, "energy.tile_cache_bytes", ">= 1048576 (1 MiB)",
+                 static_cast<double>(tile_cache_bytes));
+  if (defocus_mode != "none" && defocus_mode != "fixed" && defocus_mode != "field")
+    throw ConfigError("energy.defocus_mode must be none, fixed or field (got '" + defocus_mode + "')");
+  requireSetting(std::isfinite(defocus_m), "energy.defocus_m", "finite", defocus_m);
+  requireSetting(focus_distance_m > 0.0, "energy.focus_distance_m", "> 0", focus_distance_m);
+  requireSetting(wavelength_m > 0.0, "energy.wavelength_m", "> 0", wavelength_m);
+  requireSetting(beam_quality_m2 >= 1.0, "energy.beam_quality_m2", ">= 1", beam_quality_m2);
+}
+
+double EnergyConfig::rayleighLength() const
+{
+  const double w0 = 0.5 * spot_diameter_m;
+  return M_PI * w0 * w0 / (beam_quality_m2 * wavelength_m);
 }
 }  // namespace scanhead

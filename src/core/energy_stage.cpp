@@ -18,12 +18,25 @@ EnergyAccumulator makeAccumulator(const ChainConfig& config, const Job& job)
   return EnergyAccumulator(config.energy, lo, hi);
 }
 
+double servoDelay(const ChainConfig& config)
+{
+  return GalvoServo(config.servo, config.nc.period_s).lowFrequencyDelay().maxCoeff();
+}
+
 CornerTracker makeCornerTracker(const ChainConfig& config, const NcInterpolator& nc)
 {
-  const double servo_delay = GalvoServo(config.servo, config.nc.period_s).lowFrequencyDelay().maxCoeff();
   const double filter_delay = nc.stats().filter_delay_s;
   return CornerTracker(findCorners(nc.program().timeline, config.energy.corner_min_angle_deg * M_PI / 180.0),
-                       filter_delay, filter_delay + servo_delay);
+                       filter_delay, filter_delay + servoDelay(config));
+}
+
+LayerQuality makeLayerQuality(const ChainConfig& config, const Job& job, const NcInterpolator& nc)
+{
+  const double lag = config.energy.contour_lag_s >= 0.0 ? config.energy.contour_lag_s
+                                                        : nc.stats().filter_delay_s + servoDelay(config);
+  Eigen::Vector2d lo, hi;
+  jobMapBounds(job, config.energy.map_margin_m, lo, hi);
+  return LayerQuality(config.energy, nc.program().timeline, job, lag, nc.totalSamples(), lo, hi);
 }
 }  // namespace
 
@@ -50,6 +63,7 @@ EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcInte
   , placement_(job, config.energy.laser_path_tolerance_m)
   , trace_(nc.totalSamples(), kMaxTraceRows)
   , nc_stats_(nc.stats())
+  , quality_(makeLayerQuality(config, job, nc))
 {
   for (const Polyline& line : job.polylines)
   {
@@ -70,25 +84,46 @@ void EnergyStage::process(const SpotChunk& chunk)
   placement_.add(chunk);
   trace_.process(chunk);
   keepTrack(chunk);
+  quality_.process(chunk);
 }
 
 void EnergyStage::keepTrack(const SpotChunk& chunk)
 {
-  // Laser-on samples for the track energy profile, each burst closed by one laser-off sample;
-  // beyond the cap the profile is not measured (memory stays bounded on long jobs).
-  if (track_overflow_)
-    return;
+  // Laser-on samples for the track energy profile, each burst closed by one laser-off sample.
+  // Memory stays bounded: past energy.track_max_samples every other laser-on sample is dropped and
+  // the stride doubles (decided sample by sample, so chunking does not change what is kept).
   for (const SpotSample& s : chunk.samples)
   {
-    const bool on = s.power_w > 0.0;
-    if (on || (!track_.empty() && track_.back().power_w > 0.0))
+    if (s.power_w > 0.0)
+    {
+      if (track_seen_++ % track_stride_ != 0)
+        continue;
       track_.push_back(s);
+      if (track_.size() > config_.energy.track_max_samples)
+        thinTrack();
+    }
+    else if (!track_.empty() && track_.back().power_w > 0.0)
+    {
+      track_.push_back(s);
+    }
   }
-  if (track_.size() > config_.energy.track_max_samples)
+  track_peak_bytes_ = std::max(track_peak_bytes_, track_.capacity() * sizeof(SpotSample));
+}
+
+void EnergyStage::thinTrack()
+{
+  // The i-th laser-on entry is laser-on sample i·stride: keep the even ones (stride → 2·stride).
+  std::size_t kept = 0, on = 0;
+  for (const SpotSample& s : track_)
   {
-    track_overflow_ = true;
-    std::vector<SpotSample>().swap(track_);
+    if (s.power_w > 0.0 && on++ % 2 != 0)
+      continue;
+    if (s.power_w <= 0.0 && (kept == 0 || track_[kept - 1].power_w <= 0.0))
+      continue;  // a burst left with no sample needs no closing sample
+    track_[kept++] = s;
   }
+  track_.resize(kept);
+  track_stride_ *= 2;
 }
 
 RunMetrics EnergyStage::finish()
@@ -116,17 +151,35 @@ RunMetrics EnergyStage::finish()
   m.laser_misplaced_energy_j = settling.early_energy_j + settling.late_energy_j;
   m.laser_off_path_samples = placement_.counts().off_path_samples;
   m.laser_max_off_path_m = placement_.counts().max_distance_m;
-  if (!track_overflow_)
+  const TrackEnergyProfile track =
+      trackEnergyProfile(accumulator_.map(), track_, config_.energy.track_exclude_ends_m, &mark_ends_);
+  m.track_measured = track.interior_samples > 0;
+  m.track_median_jpm2 = track.median_jpm2;
+  m.track_mean_jpm2 = track.mean_jpm2;
+  m.track_peak_jpm2 = track.peak_jpm2;
+  m.track_peak_to_median = track.peakToMedian();
+  m.track_min_to_median = track.minToMedian();
+  m.track_peak_point_m = track.peak_point_m;
+  m.track_stride = track_stride_;
+  double ratio_sum = 0.0;
+  for (CornerReport& c : m.corners)
   {
-    const TrackEnergyProfile track =
-        trackEnergyProfile(accumulator_.map(), track_, config_.energy.track_exclude_ends_m, &mark_ends_);
-    m.track_measured = track.interior_samples > 0;
-    m.track_median_jpm2 = track.median_jpm2;
-    m.track_peak_jpm2 = track.peak_jpm2;
-    m.track_peak_to_median = track.peakToMedian();
-    m.track_min_to_median = track.minToMedian();
-    m.track_peak_point_m = track.peak_point_m;
+    // The actual path cuts the corner: look as far as it passed from it, plus a spot radius.
+    const double cut = std::isfinite(c.actual.max_contour_error_m) ? c.actual.max_contour_error_m : 0.0;
+    c.energy_peak_jpm2 = peakNear(accumulator_.map(), c.corner.point, cut + 0.5 * config_.energy.spot_diameter_m);
+    if (track.mean_jpm2 > 0.0)
+    {
+      const double ratio = c.energy_peak_jpm2 / track.mean_jpm2;
+      ratio_sum += ratio;
+      m.corner_peak_to_track_mean_max = std::max(m.corner_peak_to_track_mean_max, ratio);
+    }
   }
+  if (track.mean_jpm2 > 0.0 && !m.corners.empty())
+    m.corner_peak_to_track_mean = ratio_sum / static_cast<double>(m.corners.size());
+  m.quality = quality_.finish();
+  m.map_tiles = accumulator_.map().tilesTouched();
+  m.map_tiles_spilled = accumulator_.map().tilesSpilled();
+  m.peak_memory_bytes = accumulator_.map().peakResidentBytes() + m.quality.memory_bytes + track_peak_bytes_;
   return m;
 }
 }  // namespace scanhead

@@ -1,5 +1,6 @@
 #include "scanhead/core/metrics_report.hpp"
 #include "scanhead/core/number_text.hpp"
+#include "scanhead/core/histogram.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +22,65 @@ std::string numberOrInfinity(double value)
   return std::isinf(value) && value > 0.0 ? std::string(".inf") : fullPrecisionText(value);
 }
 
+/// NaN as YAML's .nan (an empty statistic), else full precision.
+std::string number(double value)
+{
+  return std::isnan(value) ? std::string(".nan") : numberOrInfinity(value);
+}
+
+std::string errorStats(const ContourErrorStats& s)
+{
+  std::string bins;
+  for (std::size_t i = 0; i <= ContourErrorStats::kBins; ++i)
+    bins += (i > 0 ? ", " : "") + std::to_string(s.binCount(i));
+  return "{points: " + std::to_string(s.count()) + ", share_under_10um: " + number(s.shareUnder(10e-6)) +
+         ", share_under_20um: " + number(s.shareUnder(20e-6)) + ", share_under_30um: " + number(s.shareUnder(30e-6)) +
+         ", mean_m: " + number(s.mean()) + ", p99_m: " + number(s.quantileUpperBound(0.99)) +
+         ", max_m: " + number(s.max()) + ", counts_1um: [" + bins + "]}";
+}
+
+/// One definition: the shares over every marked point, then the split by kind of point.
+std::string errorSplit(const ContourErrorSplit& s, const std::string& indent)
+{
+  return indent + "share_under_10um: " + number(s.mark.shareUnder(10e-6)) + "\n" + indent +
+         "share_under_20um: " + number(s.mark.shareUnder(20e-6)) + "\n" + indent +
+         "share_under_30um: " + number(s.mark.shareUnder(30e-6)) + "\n" + indent + "mark: " + errorStats(s.mark) +
+         "\n" + indent + "contour: " + errorStats(s.contour) + "\n" + indent + "hatch: " + errorStats(s.hatch) +
+         "\n" + indent + "jump: " + errorStats(s.jump) + "\n";
+}
+
+std::string qualityYaml(const LayerQualityReport& q)
+{
+  std::string out;
+  out += "contour_error:  # per commanded point (SPEC §5); shares over the marked points, then by kind\n";
+  out += "  lag_s: " + fullPrecisionText(q.lag_s) + "  # same-instant pairing: actual sample k + round(lag/Ts)\n";
+  out += "  commanded_points: " + std::to_string(q.commanded_points) + "\n";
+  out += "  unmatched_points: " + std::to_string(q.unmatched_points) + "  # no same-instant sample (stream gap, end)\n";
+  out += "  same_instant:  # THESIS §2.5.3.1: projection on the actual segments around the same-instant sample\n";
+  out += errorSplit(q.same_instant, "    ");
+  if (q.nearest_measured)
+  {
+    out += "  nearest_path:  # NC: distance to the whole actual path\n";
+    out += errorSplit(q.nearest_path, "    ");
+  }
+  else
+  {
+    out += "  nearest_path: null  # not measured: more samples than energy.contour_max_samples\n";
+  }
+  out += "fill_rate: " + number(q.fill_rate) + "  # THESIS §2.6: hatch cells of pitch = spot diameter reached\n";
+  out += "fill: {pitch_m: " + fullPrecisionText(q.fill_pitch_m) + ", cells_to_fill: " + std::to_string(q.fill_cells_to_fill) +
+         ", cells_reached: " + std::to_string(q.fill_cells_reached) +
+         ", points_outside: " + std::to_string(q.fill_points_outside) + "}\n";
+  out += "angle_error:  # Q_filt2 - Q_exp per axis over the program\n";
+  out += "  x:\n" + histogramYaml(q.angle_error_x, "    ", 1e6, "urad");
+  out += "  y:\n" + histogramYaml(q.angle_error_y, "    ", 1e6, "urad");
+  out += "speed_profile:  # actual speed / programmed speed, laser-on mark samples\n";
+  out += "  mean_ratio: " + fullPrecisionText(q.mark_speed_mean_ratio) + "\n";
+  out += "  share_below_90pct: " + number(q.mark_speed_ratio.fractionBelow(0.9)) + "\n";
+  out += "  ratio:\n" + histogramYaml(q.mark_speed_ratio, "    ", 1.0, "1");
+  return out;
+}
+
 double relative(double value, double reference)
 {
   return reference != 0.0 ? (value - reference) / reference : 0.0;
@@ -39,6 +99,10 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "deposited_energy_j: " << fullPrecisionText(m.deposited_energy_j) << "\n";
   out << "energy_outside_map_j: " << fullPrecisionText(m.energy_outside_map_j) << "\n";
   out << "peak_energy_density_jpm2: " << fullPrecisionText(m.peak_energy_density_jpm2) << "\n";
+  out << "layer_time_s: " << fullPrecisionText(m.quality.layer_time_s) << "  # the NC program, holds included\n";
+  out << "peak_memory_bytes: " << m.peak_memory_bytes
+      << "  # the energy stage's data at its largest (tiles, path, index, grids, track)\n";
+  out << "energy_map: {tiles: " << m.map_tiles << ", tiles_spilled: " << m.map_tiles_spilled << "}\n";
   out << "nc: {capped_polylines: " << m.nc_program.capped_polylines << ", delay_holds: " << m.nc_program.delay_holds
       << ", polygon_holds: " << m.nc_program.polygon_holds << ", skywritten_corners: " << m.nc_program.skywritten_corners
       << ", added_time_s: " << fullPrecisionText(m.nc_program.added_time_s)
@@ -55,14 +119,18 @@ std::string metricsToYaml(const RunMetrics& m)
   {
     out << "track_energy: {median_jpm2: " << fullPrecisionText(m.track_median_jpm2)
         << ", peak_jpm2: " << fullPrecisionText(m.track_peak_jpm2)
+        << ", mean_jpm2: " << fullPrecisionText(m.track_mean_jpm2) << ", stride: " << m.track_stride
         << ", peak_to_median: " << fullPrecisionText(m.track_peak_to_median)
         << ", min_to_median: " << fullPrecisionText(m.track_min_to_median) << ", peak_point_m: ["
         << fullPrecisionText(m.track_peak_point_m.x()) << ", " << fullPrecisionText(m.track_peak_point_m.y()) << "]}\n";
   }
   else
   {
-    out << "track_energy: null  # not measured: no interior track, or more laser-on samples than energy.track_max_samples\n";
+    out << "track_energy: null  # not measured: no interior track\n";
   }
+  out << "corner_energy: {mean_peak_to_track_mean: " << fullPrecisionText(m.corner_peak_to_track_mean)
+      << ", max_peak_to_track_mean: " << fullPrecisionText(m.corner_peak_to_track_mean_max) << "}\n";
+  out << qualityYaml(m.quality);
   out << "corners:" << (m.corners.empty() ? " []\n" : "\n");
   for (const CornerReport& c : m.corners)
   {
@@ -74,6 +142,7 @@ std::string metricsToYaml(const RunMetrics& m)
     out << "    setpoint: " << stats(c.setpoint) << "\n";
     out << "    actual: " << stats(c.actual) << "\n";
     out << "    theory: " << stats(c.theory) << "\n";
+    out << "    energy_peak_jpm2: " << fullPrecisionText(c.energy_peak_jpm2) << "\n";
   }
   return out.str();
 }
@@ -105,6 +174,27 @@ std::string metricsTable(const RunMetrics& m)
                   m.track_median_jpm2 * 1e-6, m.track_peak_jpm2 * 1e-6, m.track_peak_to_median,
                   m.track_peak_point_m.x() * 1e3, m.track_peak_point_m.y() * 1e3, m.track_min_to_median);
     out += line;
+  }
+  const LayerQualityReport& q = m.quality;
+  std::snprintf(line, sizeof line, "layer: time %.6g s, fill rate %.2f %% (%llu of %llu cells of %.0f um)\n",
+                q.layer_time_s, 100.0 * q.fill_rate, static_cast<unsigned long long>(q.fill_cells_reached),
+                static_cast<unsigned long long>(q.fill_cells_to_fill), q.fill_pitch_m * 1e6);
+  out += line;
+  auto shares = [&](const char* name, const ContourErrorStats& s) {
+    std::snprintf(line, sizeof line, "  %-22s %8llu points: %6.2f %% < 10 um, %6.2f %% < 20 um, %6.2f %% < 30 um, max %.1f um\n",
+                  name, static_cast<unsigned long long>(s.count()), 100.0 * s.shareUnder(10e-6),
+                  100.0 * s.shareUnder(20e-6), 100.0 * s.shareUnder(30e-6), s.max() * 1e6);
+    out += line;
+  };
+  out += "contour error, marks (contours):\n";
+  shares("same instant", q.same_instant.mark);
+  if (q.same_instant.contour.count() > 0)
+    shares("same instant, contours", q.same_instant.contour);
+  if (q.nearest_measured)
+  {
+    shares("nearest path", q.nearest_path.mark);
+    if (q.nearest_path.contour.count() > 0)
+      shares("nearest path, contours", q.nearest_path.contour);
   }
   if (m.corners.empty())
     return out;

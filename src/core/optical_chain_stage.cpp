@@ -26,6 +26,7 @@ SpotChunk OpticalChainStage::process(const SetpointChunk& setpoint, const JointC
     s.actual = ray.spot;
     s.direction = ray.direction;
     s.setpoint = optics_.spot(setpoint.samples[k].position);
+    s.angle_error = setpoint.samples[k].position - joints.samples[k].position;
     s.power_w = laser.samples[k].power_w;
   }
   return out;

@@ -8,14 +8,13 @@
 #include <system_error>
 
 #include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/colour_map.hpp"
+#include "scanhead/core/energy_exports.hpp"
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/job_io.hpp"
 #include "scanhead/core/job_picture.hpp"
 #include "scanhead/core/job_stats.hpp"
 #include "scanhead/core/metrics_report.hpp"
-#include "scanhead/core/png_writer.hpp"
 
 namespace scanhead
 {
@@ -23,24 +22,12 @@ namespace fs = std::filesystem;
 
 namespace
 {
-constexpr int kMaxImageSide = 2000;  // px; larger maps are shown by block maxima
-
 void writeText(const fs::path& path, const std::string& text)
 {
   std::ofstream out(path, std::ios::binary);
   out << text;
   if (!out.good())
     throw InputError(path.string() + ": cannot write");
-}
-
-std::string mapDescription(const EnergyMap& map, const EnergyImageLayout& layout)
-{
-  return "# energy_map_16bit.png: E = value / 65535 * scale_max_jpm2, row 0 = top (+y up)\n"
-         "# energy_map.png: inferno colour map, colour bar on the right from 0 (bottom) to scale_max_jpm2 (top)\n"
-         "width: " + std::to_string(map.width()) + "\nheight: " + std::to_string(map.height()) +
-         "\npixel_m: " + fullPrecisionText(map.pixel()) + "\norigin_m: [" + fullPrecisionText(map.origin().x()) + ", " + fullPrecisionText(map.origin().y()) +
-         "]  # lower-left corner of the map\nscale_max_jpm2: " + fullPrecisionText(map.peak()) +
-         "\ncolour_image_block: " + std::to_string(layout.block) + "  # map pixels per image pixel\n";
 }
 
 /// A folder the writer may replace: empty, or written by an earlier run.
@@ -73,10 +60,7 @@ void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, 
     writeText(tmp / "job_stats.yaml", jobStatsYaml(computeJobStats(job, config.nc.implicit_jump_speed_mps)));
     writeJobPicture((tmp / "job.png").string(), job, 1600);
     writeText(tmp / "trace.csv", energy.trace().csv(config.nc.period_s));
-    EnergyImageLayout layout;
-    writePng((tmp / "energy_map.png").string(), renderEnergyMap(energy.map(), 0.0, kMaxImageSide, &layout));
-    writePng((tmp / "energy_map_16bit.png").string(), energyMapToGray16(energy.map()));
-    writeText(tmp / "energy_map.yaml", mapDescription(energy.map(), layout));
+    writeEnergyExports(tmp.string(), energy.map(), job, config.energy);
     if (finish)
       finish(tmp.string());
     if (fs::exists(dir))

@@ -15,27 +15,28 @@ namespace
 {
 /// \brief Lower pixel index and weight of the upper one along one axis; \p u in pixel-centre
 /// coordinates (centres at integers), clamped to [0, n − 1].
-inline void axisWeights(double u, int n, int& i0, int& i1, double& a)
+inline void axisWeights(double u, std::int64_t n, std::int64_t& i0, std::int64_t& i1, double& a)
 {
   const double hi = static_cast<double>(n - 1);
   u = std::min(std::max(u, 0.0), hi);
   const double f = std::floor(u);
-  i0 = static_cast<int>(f);
+  i0 = static_cast<std::int64_t>(f);
   i1 = std::min(i0 + 1, n - 1);
   a = u - f;
 }
 
 /// \brief Bilinear E between pixel centres; 0 off the map (see the header for the edge band).
-double bilinear(const EnergyMap& map, const Eigen::Vector2d& p)
+template <class Map>
+double bilinear(const Map& map, const Eigen::Vector2d& p)
 {
   const double pixel = map.pixel();
   const double x = (p.x() - map.origin().x()) / pixel;  // [pixels] from the map's corner
   const double y = (p.y() - map.origin().y()) / pixel;
-  if (!(x >= 0.0 && x <= map.width() && y >= 0.0 && y <= map.height()))
+  if (!(x >= 0.0 && x <= static_cast<double>(map.width()) && y >= 0.0 && y <= static_cast<double>(map.height())))
   {
     return 0.0;
   }
-  int i0, i1, j0, j1;
+  std::int64_t i0, i1, j0, j1;
   double a, b;
   axisWeights(x - 0.5, map.width(), i0, i1, a);
   axisWeights(y - 0.5, map.height(), j0, j1, b);
@@ -60,8 +61,9 @@ bool nearAnEnd(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& end
 }
 }  // namespace
 
-TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<SpotSample>& spots,
-                                      double exclude_ends_m, const std::vector<Eigen::Vector2d>* track_ends)
+template <class Map>
+TrackEnergyProfile profileOn(const Map& map, const std::vector<SpotSample>& spots, double exclude_ends_m,
+                             const std::vector<Eigen::Vector2d>* track_ends)
 {
   std::vector<Eigen::Vector2d> ends_by_x;
   if (track_ends)
@@ -172,5 +174,32 @@ TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<Sp
     out.median_jpm2 = median;
   }
   return out;
+}
+TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<SpotSample>& spots,
+                                      double exclude_ends_m, const std::vector<Eigen::Vector2d>* track_ends)
+{
+  return profileOn(map, spots, exclude_ends_m, track_ends);
+}
+
+TrackEnergyProfile trackEnergyProfile(const TiledEnergyMap& map, const std::vector<SpotSample>& spots,
+                                      double exclude_ends_m, const std::vector<Eigen::Vector2d>* track_ends)
+{
+  return profileOn(map, spots, exclude_ends_m, track_ends);
+}
+
+double peakNear(const TiledEnergyMap& map, const Eigen::Vector2d& point, double radius_m)
+{
+  const double p = map.pixel();
+  const double u = (point.x() - map.origin().x()) / p, v = (point.y() - map.origin().y()) / p;
+  const double r = radius_m / p;
+  double peak = map.at(static_cast<std::int64_t>(std::floor(u)), static_cast<std::int64_t>(std::floor(v)));
+  for (auto row = static_cast<std::int64_t>(std::floor(v - r - 0.5)); row <= static_cast<std::int64_t>(std::ceil(v + r)); ++row)
+    for (auto col = static_cast<std::int64_t>(std::floor(u - r - 0.5)); col <= static_cast<std::int64_t>(std::ceil(u + r)); ++col)
+    {
+      const double dx = static_cast<double>(col) + 0.5 - u, dy = static_cast<double>(row) + 0.5 - v;
+      if (dx * dx + dy * dy <= r * r)
+        peak = std::max(peak, static_cast<double>(map.at(col, row)));
+    }
+  return peak;
 }
 }  // namespace scanhead

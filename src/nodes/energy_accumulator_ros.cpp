@@ -158,8 +158,11 @@ void EnergyAccumulatorNode::publishViews()
   const bool wanted = image_pub_.getNumSubscribers() + grid_pub_.getNumSubscribers() + markers_pub_.getNumSubscribers() > 0;
   if (!last_stage_ || views_published_ || !wanted)
     return;
-  image_pub_.publish(energyImage(last_stage_->map()));
-  grid_pub_.publish(energyGrid(last_stage_->map()));
+  // A bounded overview of the sparse map (block means), whatever the job's extent.
+  const TiledEnergyMap& map = last_stage_->map();
+  const EnergyMap overview = map.overview(map.overviewFactor(2000));
+  image_pub_.publish(energyImage(overview));
+  grid_pub_.publish(energyGrid(overview));
   markers_pub_.publish(pathMarkers(last_job_, last_stage_->trace()));
   views_published_ = true;  // latched from now on: later subscribers get them without a new render
 }

@@ -198,6 +198,7 @@ SpotChunk fromMsg(const SpotStream& msg)
   checkSize(msg.actual.size(), 2 * n, "SpotStream actual");
   checkSize(msg.setpoint.size(), 2 * n, "SpotStream setpoint");
   checkSize(msg.direction.size(), 3 * n, "SpotStream direction");
+  checkSize(msg.angle_error.size(), 2 * n, "SpotStream angle_error");
   auto chunk = emptyChunk<SpotChunk>(msg.chunk, n);
   for (std::size_t k = 0; k < n; ++k)
   {
@@ -205,6 +206,7 @@ SpotChunk fromMsg(const SpotStream& msg)
     s.actual = Eigen::Vector2d(msg.actual[2 * k], msg.actual[2 * k + 1]);
     s.setpoint = Eigen::Vector2d(msg.setpoint[2 * k], msg.setpoint[2 * k + 1]);
     s.direction = Eigen::Vector3d(msg.direction[3 * k], msg.direction[3 * k + 1], msg.direction[3 * k + 2]);
+    s.angle_error = Eigen::Vector2d(msg.angle_error[2 * k], msg.angle_error[2 * k + 1]);
     s.power_w = msg.power[k];
   }
   return chunk;
@@ -219,6 +221,7 @@ SpotStream toMsg(const SpotChunk& chunk, const ChunkHeader& header)
     put2(msg.actual, s.actual);
     put2(msg.setpoint, s.setpoint);
     msg.direction.insert(msg.direction.end(), {s.direction.x(), s.direction.y(), s.direction.z()});
+    put2(msg.angle_error, s.angle_error);
     msg.power.push_back(s.power_w);
   }
   return msg;

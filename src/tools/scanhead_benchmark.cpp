@@ -14,6 +14,8 @@
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/correction_table.hpp"
 #include "scanhead/core/job_io.hpp"
+#include "benchmark_contour_error.hpp"
+#include "process_memory.hpp"
 
 using namespace scanhead;
 using Clock = std::chrono::steady_clock;
@@ -27,7 +29,9 @@ const char* kUsage =
     "  Default jobs: corner (the NC paper's case) and hatch (5 mm square, 100 um spacing).\n"
     "  Then the NC alone on the last job with each NC option (table IGT, adaptive filters, delays,\n"
     "  skywriting, power ~ speed, quantisation, debug signals): samples per second and ratio to the default;\n"
-    "  and the optical models: spots per second of the ray trace, the Newton inverse and the table inverse.\n";
+    "  and the optical models: spots per second of the ray trace, the Newton inverse and the table inverse;\n"
+    "  and the contour-error definitions on a synthetic hatch of --contour-points points (default 1e7).\n"
+    "  --chain-only: the jobs' chain figures only (e.g. --job squares:recipe=1 --repeat 1 --chain-only).\n";
 
 double seconds(Clock::duration d)
 {
@@ -110,6 +114,7 @@ void benchmark(const ChainConfig& config, const OpticalModel& optics, const std:
   std::printf("%-22s %14.2f   real-time factor: mean %.1fx, worst %.1fx, best %.1fx\n", "whole chain",
               samples / stats[5].mean() * 1e-6, job_time / stats[5].mean(), job_time / stats[5].max(),
               job_time / stats[5].min());
+  std::printf("process peak memory so far (VmHWM): %.1f MiB\n", processPeakResidentBytes() / 1048576.0);
 }
 /// NC throughput for each option of issue 3, alone (no downstream stage), on one job.
 void benchmarkNcOptions(const std::string& config_path, const std::vector<std::string>& overrides,
@@ -231,10 +236,13 @@ int main(int argc, char** argv)
     std::vector<std::string> jobs, overrides;
     std::string config_path = "config/scanhead.yaml";
     int repeat = 20;
+    bool chain_only = false;
+    std::size_t contour_points = 10000000;
     for (int i = 1; i < argc; ++i)
     {
       const std::string arg = argv[i];
-      if ((arg == "--job" || arg == "--repeat" || arg == "--config" || arg == "--set") && i + 1 >= argc)
+      if ((arg == "--job" || arg == "--repeat" || arg == "--config" || arg == "--set" || arg == "--contour-points") &&
+          i + 1 >= argc)
         throw std::runtime_error(arg + " needs a value\n" + kUsage);
       if (arg == "--job")
         jobs.push_back(argv[++i]);
@@ -244,6 +252,10 @@ int main(int argc, char** argv)
         config_path = argv[++i];
       else if (arg == "--set")
         overrides.push_back(argv[++i]);
+      else if (arg == "--chain-only")
+        chain_only = true;
+      else if (arg == "--contour-points")
+        contour_points = static_cast<std::size_t>(std::max(1000.0, std::atof(argv[++i])));
       else
       {
         std::cout << kUsage;
@@ -256,8 +268,12 @@ int main(int argc, char** argv)
     const OpticalModel optics = loadOpticalModel(config.optics);
     for (const auto& job : jobs)
       benchmark(config, optics, job, repeat);
+    if (chain_only)
+      return 0;
     benchmarkNcOptions(config_path, overrides, optics, jobs.back(), repeat);
     benchmarkOpticalModels(config, optics, repeat);
+    std::printf("\ncontour error on a synthetic hatch\n");
+    benchmarkContourError(std::cout, contour_points);
     return 0;
   }
   catch (const std::exception& e)

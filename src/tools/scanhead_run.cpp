@@ -14,6 +14,9 @@
 #include "scanhead/core/job_stats.hpp"
 #include "scanhead/core/metrics_report.hpp"
 #include "scanhead/core/results_writer.hpp"
+#include "process_memory.hpp"
+
+#include <chrono>
 
 namespace
 {
@@ -75,16 +78,35 @@ int main(int argc, char** argv)
 
     BatchChain chain(config, optics);
     int last_percent = -1;
+    const auto start = std::chrono::steady_clock::now();
     const RunMetrics metrics = chain.run(job, [&](std::uint64_t done, std::uint64_t total) {
       const int percent = static_cast<int>(100 * done / total);
-      if (!args.quiet && total > 200000 && percent / 10 != last_percent / 10)
-        std::fprintf(stderr, "\r%3d %% of %llu samples", percent, static_cast<unsigned long long>(total));
+      if (!args.quiet && total > 200000 && percent != last_percent)
+      {
+        // Progress with the real-time factor so far and the time left at that pace.
+        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double machine = static_cast<double>(done) * config.nc.period_s;
+        const double left = done > 0 ? wall * static_cast<double>(total - done) / static_cast<double>(done) : 0.0;
+        std::fprintf(stderr, "\r%3d %% of %llu samples (%.1f s of machine time), %.1fx real time, %.0f s left   ",
+                     percent, static_cast<unsigned long long>(total), static_cast<double>(total) * config.nc.period_s,
+                     wall > 0.0 ? machine / wall : 0.0, left);
+        if (done == total)
+          std::fprintf(stderr, "\n");
+      }
       last_percent = percent;
     });
+    if (!args.quiet && metrics.samples > 200000)
+      std::fprintf(stderr, "measuring the layer and writing %s ...\n", out.c_str());
     writeResultsFolder(out, metrics, chain.energy(), config, job, plotFinisher());
     if (!args.quiet)
-      std::cout << metricsTable(metrics) << ncLimitsLine(chain.nc().stats(), config.nc) << "results written to " << out
-                << "/\n";
+    {
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::cout << metricsTable(metrics) << ncLimitsLine(chain.nc().stats(), config.nc);
+      std::printf("run: %.2f s wall for %.4f s of machine time (%.1fx real time, results and plots included), "
+                  "process peak memory %.0f MiB\n",
+                  wall, metrics.duration_s, metrics.duration_s / wall, processPeakResidentBytes() / 1048576.0);
+      std::cout << "results written to " << out << "/\n";
+    }
     return 0;
   }
   catch (const std::exception& e)

@@ -33,7 +33,7 @@ inline ChainRun runJob(const std::string& job_spec, const std::vector<std::strin
   BatchChain chain(config, optics);
   ChainRun run;
   run.metrics = chain.run(job);
-  run.map = chain.energy().map().data();
+  run.map = chain.energy().map().toDense().data();
   run.nc = chain.nc().stats();
   run.job_time_s = chain.nc().pathDuration();
   return run;

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "scanhead/core/energy_map.hpp"
+#include "scanhead/core/energy_accumulator.hpp"
 #include "scanhead/core/errors.hpp"
 
 using scanhead::ConfigError;
@@ -175,7 +175,7 @@ TEST(EnergyAccumulator, StraightTrackProfileRippleConservation)
   const double y = 80.5 * p;  // centre of row 80
   const Stream s = straightTrack(Eigen::Vector2d(0.3e-3, y), Eigen::Vector2d(1.7e-3, y), v, power);
   feed(acc, s, 1000);
-  const EnergyMap& map = acc.map();
+  const EnergyMap map = acc.map().toDense();
 
   const double cons_err = relErr(map.totalEnergy(), s.commandedEnergy());
   std::cout << "[track] conservation rel err " << cons_err << "\n";
@@ -304,7 +304,7 @@ TEST(EnergyAccumulator, ChunkInvariance)
   {
     EnergyAccumulator acc(cfg, Eigen::Vector2d(0.2e-3, 0.2e-3), Eigen::Vector2d(1.0e-3, 1.0e-3));
     feed(acc, s, chunk);
-    maps.push_back(acc.map().data());
+    maps.push_back(acc.map().toDense().data());
     outsides.push_back(acc.energyOutsideMap());
   }
   EXPECT_GT(outsides[0], 0.0);  // the path leaves the map: the clipping path is exercised
@@ -334,13 +334,13 @@ TEST(EnergyAccumulator, ResetOverlapAndGap)
   acc.process(c);  // duplicate: skipped
   acc.finish();
   EXPECT_NEAR(acc.map().totalEnergy(), 10 * 100.0 * kTs, 1e-6 * 10 * 100.0 * kTs);
-  const std::vector<float> once = acc.map().data();
+  const std::vector<float> once = acc.map().toDense().data();
 
   acc.reset();
   EXPECT_EQ(acc.map().totalEnergy(), 0.0);
   acc.process(c);
   acc.finish();
-  EXPECT_TRUE(acc.map().data() == once);
+  EXPECT_TRUE(acc.map().toDense().data() == once);
 
   acc.reset();
   SpotChunk later = c;

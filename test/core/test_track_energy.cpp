@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "scanhead/core/energy_map.hpp"
+#include "scanhead/core/energy_accumulator.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/track_energy.hpp"
 
@@ -46,7 +46,7 @@ EnergyMap deposit(const std::vector<SpotSample>& spots, const EnergyConfig& cfg,
   c.samples = spots;
   acc.process(c);
   acc.finish();
-  return acc.map();
+  return acc.map().toDense();
 }
 
 /// \brief Samples from a to b at speed v (the last one lands on b).

@@ -59,6 +59,7 @@ struct SpotSample
   Eigen::Vector2d setpoint = Eigen::Vector2d::Zero();  ///< Q_filt2 through the direct model [m]
   Eigen::Vector2d actual = Eigen::Vector2d::Zero();    ///< Q_exp through the direct model [m]
   Eigen::Vector3d direction = Eigen::Vector3d(0, 0, -1);  ///< unit beam direction at the plane (plane frame)
+  Eigen::Vector2d angle_error = Eigen::Vector2d::Zero();  ///< Q_filt2 − Q_exp per axis [rad] (servo following error)
   double power_w = 0.0;                                ///< laser power [W]
 };
 

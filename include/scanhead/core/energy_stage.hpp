@@ -6,8 +6,9 @@
 #include <memory>
 
 #include "scanhead/core/chain_config.hpp"
-#include "scanhead/core/energy_map.hpp"
+#include "scanhead/core/energy_accumulator.hpp"
 #include "scanhead/core/laser_placement.hpp"
+#include "scanhead/core/layer_quality.hpp"
 #include "scanhead/core/laser_settling.hpp"
 #include "scanhead/core/nc_interpolator.hpp"
 #include "scanhead/core/run_metrics.hpp"
@@ -31,12 +32,13 @@ public:
   /// \brief Ends the stream and returns the run's metrics.
   RunMetrics finish();
 
-  const EnergyMap& map() const { return accumulator_.map(); }
+  const TiledEnergyMap& map() const { return accumulator_.map(); }
   const TraceRecorder& trace() const { return trace_; }
   std::uint64_t samplesSeen() const { return counter_.samples(); }
 
 private:
   void keepTrack(const SpotChunk& chunk);
+  void thinTrack();
 
   ChainConfig config_;
   std::string job_name_;
@@ -44,11 +46,14 @@ private:
   CornerTracker corners_;
   LaserSettlingCheck settling_;
   LaserPlacement placement_;
-  std::vector<SpotSample> track_;  ///< laser-on samples (and one laser-off sample after each burst), capped
-  bool track_overflow_ = false;    ///< more than energy.track_max_samples: profile not measured
+  std::vector<SpotSample> track_;  ///< every track_stride_-th laser-on sample, and one laser-off sample after each burst
+  std::uint64_t track_seen_ = 0;   ///< laser-on samples seen
+  std::uint64_t track_stride_ = 1; ///< doubles whenever track_ would exceed energy.track_max_samples
+  std::size_t track_peak_bytes_ = 0;
   std::vector<Eigen::Vector2d> mark_ends_;  ///< first and last points of the marks: not track interior
   StreamCounter counter_;
   TraceRecorder trace_;
   NcStats nc_stats_;  ///< the NC's program figures at start (the per-sample ones stay with the NC)
+  LayerQuality quality_;
 };
 }  // namespace scanhead

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "scanhead/core/chunk.hpp"
+#include "scanhead/core/layer_quality.hpp"
 #include "scanhead/core/nc_program.hpp"
 #include "scanhead/core/scan_job.hpp"
 
@@ -24,6 +25,7 @@ struct CornerReport
   CornerPathStats setpoint;  ///< Q_filt2 through the direct model
   CornerPathStats actual;    ///< after the servo
   CornerPathStats theory;    ///< NC §3.2–3.3 closed forms
+  double energy_peak_jpm2 = 0.0;  ///< max E on the map within (actual contour error + spot radius) of the commanded corner [J/m²]
 };
 
 struct RunMetrics
@@ -53,6 +55,14 @@ struct RunMetrics
   double track_peak_to_median = 0.0;      ///< corner peak relative to the straight-track level
   double track_min_to_median = 0.0;       ///< worst dip relative to the straight-track level
   Eigen::Vector2d track_peak_point_m = Eigen::Vector2d::Zero();  ///< where the peak is [m]
+  double track_mean_jpm2 = 0.0;           ///< mean E along the tracks, ends excluded [J/m²]
+  std::uint64_t track_stride = 1;         ///< every track_stride-th laser-on sample was sampled (bounded memory)
+  double corner_peak_to_track_mean = 0.0;      ///< mean over the corners of energy_peak / track mean
+  double corner_peak_to_track_mean_max = 0.0;  ///< the largest of them
+  std::uint64_t map_tiles = 0;            ///< energy-map tiles the spot touched (64 × 64 pixels)
+  std::uint64_t map_tiles_spilled = 0;    ///< of which written to the spill file at least once
+  std::size_t peak_memory_bytes = 0;      ///< the energy stage's data at its largest: resident tiles and directory, path, index, grids, track [bytes]
+  LayerQualityReport quality;             ///< contour errors, fill rate, angle errors, speed, layer time
   std::vector<CornerReport> corners;
 };
 

@@ -9,6 +9,7 @@
 
 #include "scanhead/core/chunk.hpp"
 #include "scanhead/core/energy_map.hpp"
+#include "scanhead/core/tiled_energy_map.hpp"
 
 namespace scanhead
 {
@@ -57,4 +58,12 @@ struct TrackEnergyProfile
 TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<SpotSample>& spots,
                                       double exclude_ends_m,
                                       const std::vector<Eigen::Vector2d>* track_ends = nullptr);
+/// \brief The same on the sparse map of a run.
+TrackEnergyProfile trackEnergyProfile(const TiledEnergyMap& map, const std::vector<SpotSample>& spots,
+                                      double exclude_ends_m,
+                                      const std::vector<Eigen::Vector2d>* track_ends = nullptr);
+
+/// \brief Largest E [J/m²] over the pixels whose centre lies within \p radius_m of \p point
+/// (the pixel holding the point if none does); 0 off the map.
+double peakNear(const TiledEnergyMap& map, const Eigen::Vector2d& point, double radius_m);
 }  // namespace scanhead

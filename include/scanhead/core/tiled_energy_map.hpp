@@ -1,0 +1,107 @@
+/// \file tiled_energy_map.hpp
+/// \brief Sparse energy map of a whole layer: square tiles allocated only where the spot passes,
+/// the least recently used ones spilled to a temporary file, so memory stays bounded whatever the
+/// job's extent and length (a 350 mm field at 5 µm is 4.9e9 pixels: 20 GB as a dense float image).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "scanhead/core/energy_map.hpp"
+
+namespace scanhead
+{
+/// \brief Energy density E [J/m²] at pixel centres origin + (i + 0.5, j + 0.5)·pixel, i < width,
+/// j < height; untouched pixels read 0.
+///
+/// Pixels live in tiles of kTileSide² floats (tile (ti, tj) holds columns [ti·S, ti·S + S) and rows
+/// [tj·S, tj·S + S)). A dense directory maps each tile to its slot (4 B per tile: 2.3 MB for a
+/// 350 mm field at 5 µm). At most cache_bytes of tiles are resident; when full, the oldest eighth
+/// (by last use) is written to an anonymous temporary file (std::tmpfile, removed at exit) and read
+/// back when touched again. Values never depend on what was spilled: the same deposits give the
+/// same floats, bit for bit. Reading methods are const but may load tiles (the cache is mutable).
+/// Move-only (it owns the spill file).
+class TiledEnergyMap
+{
+public:
+  static constexpr int kTileSide = 64;  ///< tile side [pixels]: 16 KiB of floats, 0.32 mm at 5 µm
+
+  /// \brief A map covering [min_corner, max_corner] (width = max(1, ceil(extent/pixel)), as EnergyMap).
+  /// \param[in] cache_bytes resident tiles at most (≥ 16 tiles are always allowed)
+  /// \throws ConfigError if pixel_m is not > 0 or the tile directory would exceed 2^31 tiles
+  /// \throws InputError if the corners are not finite or max < min
+  TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m,
+                 std::size_t cache_bytes);
+  ~TiledEnergyMap();
+  TiledEnergyMap(TiledEnergyMap&& other) noexcept;
+  TiledEnergyMap& operator=(TiledEnergyMap&& other) noexcept;
+  TiledEnergyMap(const TiledEnergyMap&) = delete;
+  TiledEnergyMap& operator=(const TiledEnergyMap&) = delete;
+
+  std::int64_t width() const { return width_; }
+  std::int64_t height() const { return height_; }
+  double pixel() const { return pixel_; }
+  const Eigen::Vector2d& origin() const { return origin_; }
+
+  /// \brief E at pixel (col, row) [J/m²]; 0 outside the map or on an untouched tile.
+  float at(std::int64_t col, std::int64_t row) const;
+  /// \brief E[row][col + k] += c·x[k], k < n; the span must lie on the map (the accumulator clips).
+  void addRow(std::int64_t row, std::int64_t col, const float* x, float c, int n);
+
+  double totalEnergy() const;  ///< Σ E·pixel² [J], summed per tile in tile order (deterministic)
+  double peak() const;         ///< max E [J/m²]
+  void clear();                ///< back to no tile at all (the spill file is reused)
+
+  /// \brief A dense copy of the pixels [col0, col0 + w) × [row0, row0 + h) (clipped to the map;
+  /// zeros where untouched); its origin is that of pixel (col0, row0).
+  /// \throws ConfigError from EnergyMap if w·h > 2^31
+  EnergyMap region(std::int64_t col0, std::int64_t row0, std::int64_t w, std::int64_t h) const;
+  /// \brief The map averaged over blocks of factor × factor pixels (energy conserved: block mean E
+  /// on pixels factor× larger; the last blocks are partial, averaged over the full block area).
+  EnergyMap overview(int factor) const;
+  /// \brief The smallest block factor whose overview fits max_side pixels on its longer side.
+  int overviewFactor(int max_side) const;
+  /// \brief The whole map dense (small maps, tests). \throws ConfigError beyond 2^31 pixels
+  EnergyMap toDense() const { return region(0, 0, width_, height_); }
+
+  /// \brief Calls f(tile_col, tile_row, data) for every touched tile in tile order (row-major);
+  /// data: kTileSide² floats, row-major (pixels beyond the map's edge are 0).
+  void forEachTile(const std::function<void(std::int64_t, std::int64_t, const float*)>& f) const;
+
+  std::size_t tilesTouched() const { return slots_.size(); }
+  std::size_t tilesSpilled() const { return spilled_tiles_; }  ///< tiles that were written to the file at least once
+  std::size_t peakResidentBytes() const;  ///< largest memory the tiles and the directory held [bytes]
+  std::size_t spillFileBytes() const { return static_cast<std::size_t>(spill_end_); }
+
+private:
+  struct Slot
+  {
+    std::int64_t tile = 0;        ///< tile index tj·tiles_x + ti
+    std::int64_t file_offset = -1;  ///< where the tile lives in the spill file (-1: never spilled)
+    std::uint64_t last_use = 0;
+    float* data = nullptr;        ///< resident buffer, or nullptr when spilled
+  };
+  float* tileForWrite(std::int64_t tile) const;
+  const float* tileForRead(std::int64_t tile, float* scratch) const;
+  void makeRoom() const;
+  void spill(Slot& slot) const;
+  void load(Slot& slot) const;
+
+  Eigen::Vector2d origin_;
+  double pixel_ = 0.0;
+  std::int64_t width_ = 0, height_ = 0, tiles_x_ = 0, tiles_y_ = 0;
+  std::size_t max_resident_ = 0;
+  mutable std::vector<std::int32_t> slot_of_tile_;  ///< -1: untouched
+  mutable std::vector<Slot> slots_;
+  mutable std::vector<std::unique_ptr<float[]>> buffers_;  ///< every resident buffer ever allocated
+  mutable std::vector<float*> free_buffers_;
+  mutable std::size_t resident_ = 0, peak_resident_ = 0, spilled_tiles_ = 0;
+  mutable std::uint64_t clock_ = 0;
+  mutable std::FILE* spill_file_ = nullptr;
+  mutable std::int64_t spill_end_ = 0;
+};
+}  // namespace scanhead

@@ -1,0 +1,267 @@
+/// \file energy_accumulator.cpp
+/// \brief The Gaussian-spot accumulator on the sparse map (SPEC §5).
+#include "scanhead/core/energy_accumulator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "scanhead/core/errors.hpp"
+
+namespace scanhead
+{
+namespace
+{
+constexpr double kMaxSubsteps = 1.0e8;  // a longer segment is garbage, not a path
+constexpr double kMaxStencilRadius = 1.0e4;  // pixels: a footprint this large is a configuration error
+
+/// \brief 1-D Gaussian weights g[k] = exp(-a·d_k²), d_k = d_centre + (k − H)·p, k = 0..n−1 (n > H).
+///
+/// Recurrence from the centre outwards (3 exps instead of 2H+1): with r_k = exp(-a(2 d_k p + p²)),
+/// g_{k+1} = g_k·r_k and r_{k+1} = r_k·q, q = exp(-2 a p²); mirrored to the left. Starting at the
+/// centre (|d| ≤ p/2, g ≈ 1) keeps the relative error ~H·1e-16 and lets far weights underflow to 0
+/// harmlessly.
+void gaussianWeights(double d_centre, double a, double p, double q, int half, int n, double* g)
+{
+  g[half] = std::exp(-a * d_centre * d_centre);
+  double r = std::exp(-a * (2.0 * d_centre * p + p * p));
+  for (int k = half; k + 1 < n; ++k)
+  {
+    g[k + 1] = g[k] * r;
+    r *= q;
+  }
+  double l = std::exp(-a * (-2.0 * d_centre * p + p * p));
+  for (int k = half; k > 0; --k)
+  {
+    g[k - 1] = g[k] * l;
+    l *= q;
+  }
+}
+
+const EnergyConfig& validated(const EnergyConfig& config)
+{
+  config.validate();
+  return config;
+}
+}  // namespace
+
+EnergyAccumulator::EnergyAccumulator(const EnergyConfig& config, const Eigen::Vector2d& min_corner,
+                                     const Eigen::Vector2d& max_corner)
+  : config_(validated(config)), map_(min_corner, max_corner, config.pixel_m, config.tile_cache_bytes)
+{
+  // The stencil of the nominal spot must be drawable (a larger one from defocus is checked per sample).
+  const double rs = config_.truncation_radii * 0.5 * config_.spot_diameter_m / config_.pixel_m;
+  if (rs > kMaxStencilRadius)
+  {
+    std::ostringstream msg;
+    msg << "energy.pixel_m = " << config_.pixel_m << " m is too fine for the spot (stencil radius " << rs
+        << " pixels)";
+    throw ConfigError(msg.str());
+  }
+}
+
+void EnergyAccumulator::reset()
+{
+  map_.clear();
+  has_pending_ = false;
+  started_ = false;
+  next_index_ = 0;
+  period_s_ = 0.0;
+  outside_j_ = 0.0;
+  deposited_j_ = 0.0;
+}
+
+void EnergyAccumulator::process(const SpotChunk& chunk)
+{
+  const std::uint64_t n = chunk.samples.size();
+  for (std::uint64_t k = 0; k < n; ++k)
+  {
+    const std::uint64_t index = chunk.first_index + k;
+    if (started_ && index < next_index_)
+    {
+      continue;  // overlap or late chunk: this index was already accumulated
+    }
+    if (started_ && index > next_index_ && has_pending_)
+    {
+      finish();  // gap: the pending sample's successor is lost, deposit it where it stands
+    }
+    const SpotSample& s = chunk.samples[k];
+    if (has_pending_ && pending_.power_w > 0.0)
+    {
+      deposit(pending_, s.actual, pending_.power_w * period_s_);
+    }
+    pending_ = s;
+    period_s_ = chunk.period_s;
+    has_pending_ = true;
+    started_ = true;
+    next_index_ = index + 1;
+  }
+}
+
+void EnergyAccumulator::finish()
+{
+  if (has_pending_ && pending_.power_w > 0.0)
+  {
+    deposit(pending_, pending_.actual, pending_.power_w * period_s_);
+  }
+  has_pending_ = false;
+}
+
+void EnergyAccumulator::deposit(const SpotSample& from_sample, const Eigen::Vector2d& to, double energy_j)
+{
+  const Eigen::Vector2d& from = from_sample.actual;
+  const Eigen::Vector2d delta = to - from;
+  const double length = delta.norm();
+  if (!from.allFinite() || !std::isfinite(length))
+  {
+    std::ostringstream msg;
+    msg << "energy: non-finite spot position (" << from.x() << ", " << from.y() << ") -> (" << to.x() << ", "
+        << to.y() << ") m while the laser is on";
+    throw NumericalError(msg.str());
+  }
+  const SpotFootprint fp = spotFootprint(config_, from_sample.direction);
+  const double steps = std::max(1.0, std::ceil(length / (config_.max_substep_radii * fp.radius_m)));
+  if (steps > kMaxSubsteps)
+  {
+    std::ostringstream msg;
+    msg << "energy: spot moved " << length << " m in one sample with the laser on (" << steps
+        << " sub-steps): implausible";
+    throw NumericalError(msg.str());
+  }
+  const int m = static_cast<int>(steps);
+  const double e = energy_j / steps;
+  deposited_j_ += energy_j;
+  for (int s = 0; s < m; ++s)
+  {
+    const double f = (s + 0.5) / steps;
+    depositPoint(from.x() + f * delta.x(), from.y() + f * delta.y(), e, fp);
+  }
+}
+
+void EnergyAccumulator::depositPoint(double cx, double cy, double energy_j, const SpotFootprint& fp)
+{
+  const double p = map_.pixel();
+  const Eigen::Vector2d& o = map_.origin();
+  const std::int64_t width = map_.width();
+  const std::int64_t height = map_.height();
+  // Stencil radius in pixels: every pixel centre within R = truncation_radii·w_major of a point of
+  // the centre pixel lies within R/p + sqrt(1/2) of the centre pixel's centre.
+  const double rs = config_.truncation_radii * fp.major_radius_m / p + std::sqrt(0.5);
+  if (rs > kMaxStencilRadius)
+  {
+    std::ostringstream msg;
+    msg << "energy: the footprint (radius " << fp.major_radius_m << " m, defocus " << fp.defocus_m
+        << " m) spans " << rs << " pixels of energy.pixel_m = " << p << " m: raise energy.pixel_m";
+    throw ConfigError(msg.str());
+  }
+  const int h = static_cast<int>(std::floor(rs));
+  const int rows = 2 * h + 1;
+  const int cols = (rows + 3 + 3) / 4 * 4;  // room for the widened rows, a multiple of 4
+
+  // Pixel holding the centre (its centre is within p/2 of c on each axis).
+  const double fx = std::floor((cx - o.x()) / p);
+  const double fy = std::floor((cy - o.y()) / p);
+  if (fx - h + (cols - 1) < 0.0 || fx - h > static_cast<double>(width - 1) || fy + h < 0.0 ||
+      fy - h > static_cast<double>(height - 1))
+  {
+    outside_j_ += energy_j;  // whole stencil off the map
+    return;
+  }
+  const std::int64_t i0 = static_cast<std::int64_t>(fx) - h;  // map column of stencil column 0
+  const std::int64_t j0 = static_cast<std::int64_t>(fy) - h;
+  const double dxc = o.x() + (static_cast<double>(i0 + h) + 0.5) * p - cx;  // centre pixel − c [m]
+  const double dyc = o.y() + (static_cast<double>(j0 + h) + 0.5) * p - cy;
+
+  gy_.resize(static_cast<std::size_t>(rows));
+  row_sum_.resize(static_cast<std::size_t>(rows));
+  weights_.resize(static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols));
+  gx_.resize(static_cast<std::size_t>(cols));
+  gxf_.resize(static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols));
+  // Rows: exp(-(qyy − qxy²/qxx)·dy²); columns of row t: exp(-qxx·(dx + (qxy/qxx)·dy_t)²).
+  const double shear = fp.qxy / fp.qxx;
+  const double ay = fp.qyy - fp.qxy * shear;
+  gaussianWeights(dyc, ay, p, std::exp(-2.0 * ay * p * p), h, rows, gy_.data());
+  const double qx = std::exp(-2.0 * fp.qxx * p * p);
+  const bool separable = fp.qxy == 0.0;
+  if (separable)
+    gaussianWeights(dxc, fp.qxx, p, qx, h, cols, gx_.data());
+
+  // Row t covers the columns within rs of the centre, |di| ≤ floor(sqrt(rs² − dj²)), widened on the
+  // right to a multiple of 4 (any set of pixels holding the disc will do: the normalisation makes it
+  // conserve energy exactly).
+  if (separable)
+  {
+    // One row of weights for the whole stencil, and its prefix sums for the rows' totals.
+    prefix_.resize(static_cast<std::size_t>(cols) + 1);
+    prefix_[0] = 0.0;
+    for (int k = 0; k < cols; ++k)
+    {
+      prefix_[static_cast<std::size_t>(k) + 1] = prefix_[static_cast<std::size_t>(k)] + gx_[static_cast<std::size_t>(k)];
+      gxf_[static_cast<std::size_t>(k)] = static_cast<float>(gx_[static_cast<std::size_t>(k)]);
+    }
+  }
+  auto row_weights = [&](int t) {
+    return separable ? gx_.data() : weights_.data() + static_cast<std::size_t>(t) * cols;
+  };
+  auto row_floats = [&](int t) { return gxf_.data() + (separable ? 0 : static_cast<std::size_t>(t) * cols); };
+  auto row_span = [&](int t, int& lo, int& hi) {
+    const double dj = t - h;
+    const int hw = static_cast<int>(std::floor(std::sqrt(std::max(0.0, rs * rs - dj * dj))));
+    lo = h - hw;
+    hi = lo + (2 * hw + 1 + 3) / 4 * 4 - 1;  // ≤ 2H + 3 < cols
+  };
+  auto span_sum = [&](int t, int lo, int hi) {
+    if (separable)
+      return prefix_[static_cast<std::size_t>(hi) + 1] - prefix_[static_cast<std::size_t>(lo)];
+    const double* g = row_weights(t);
+    double sum = 0.0;
+    for (int k = lo; k <= hi; ++k)
+      sum += g[k];
+    return sum;
+  };
+
+  // Row t covers the columns within rs of the centre, |di| ≤ floor(sqrt(rs² − dj²)), widened on the
+  // right to a multiple of 4 (any set of pixels holding the disc will do: the normalisation makes it
+  // conserve energy exactly).
+  double total = 0.0;
+  for (int t = 0; t < rows; ++t)
+  {
+    int lo = 0, hi = 0;
+    row_span(t, lo, hi);
+    if (!separable)
+    {
+      double* g = weights_.data() + static_cast<std::size_t>(t) * cols;
+      gaussianWeights(dxc + shear * (dyc + (t - h) * p), fp.qxx, p, qx, h, cols, g);
+      float* f = gxf_.data() + static_cast<std::size_t>(t) * cols;
+      for (int k = lo; k <= hi; ++k)
+        f[k] = static_cast<float>(g[k]);
+    }
+    row_sum_[static_cast<std::size_t>(t)] = gy_[static_cast<std::size_t>(t)] * span_sum(t, lo, hi);
+    total += row_sum_[static_cast<std::size_t>(t)];
+  }
+  const double scale = energy_j / (p * p * total);  // [J/m²] per unit weight
+
+  double weight_in = 0.0;
+  for (int t = 0; t < rows; ++t)
+  {
+    const std::int64_t row = j0 + t;
+    if (row < 0 || row >= height)
+      continue;
+    int lo = 0, hi = 0;
+    row_span(t, lo, hi);
+    const int klo = static_cast<int>(std::max<std::int64_t>(lo, -i0));
+    const int khi = static_cast<int>(std::min<std::int64_t>(hi, width - 1 - i0));
+    if (klo > khi)
+      continue;
+    const float c = static_cast<float>(scale * gy_[static_cast<std::size_t>(t)]);
+    map_.addRow(row, i0 + klo, row_floats(t) + klo, c, khi - klo + 1);
+    weight_in += klo == lo && khi == hi ? row_sum_[static_cast<std::size_t>(t)]
+                                        : gy_[static_cast<std::size_t>(t)] * span_sum(t, klo, khi);
+  }
+  if (weight_in < total)
+  {
+    // The normalised weights of the stencil pixels that are off the map.
+    outside_j_ += energy_j * ((total - weight_in) / total);
+  }
+}
+}  // namespace scanhead

@@ -1,0 +1,203 @@
+/// \file layer_quality.cpp
+#include "scanhead/core/layer_quality.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "scanhead/core/segment_distance.hpp"
+
+namespace scanhead
+{
+LayerQuality::LayerQuality(const EnergyConfig& config, const PathTimeline& timeline, const Job& job, double lag_s,
+                           std::uint64_t total_samples, const Eigen::Vector2d& min_corner,
+                           const Eigen::Vector2d& max_corner)
+  : config_(config)
+  , timeline_(timeline)
+  , fill_(min_corner, max_corner, config.spot_diameter_m)
+  , path_(min_corner)
+{
+  contour_polyline_.reserve(job.polylines.size());
+  for (const Polyline& line : job.polylines)
+    contour_polyline_.push_back(line.type == PolylineType::Mark && line.role == PolylineRole::Contour);
+  report_.lag_s = lag_s;
+  report_.layer_time_s = timeline.duration();
+  report_.fill_pitch_m = config.spot_diameter_m;
+  keep_path_ = total_samples <= config.contour_max_samples;
+  if (keep_path_)
+    path_.reserve(static_cast<std::size_t>(total_samples));
+  report_.nearest_measured = keep_path_;
+}
+
+LayerQuality::~LayerQuality() = default;
+
+LayerQuality::Command LayerQuality::commandAt(std::uint64_t k, PathTimeline::Cursor& cursor) const
+{
+  Command c;
+  if (k >= program_samples_)
+    return c;
+  const double t = static_cast<double>(k) * period_s_;
+  const std::size_t segment = timeline_.segmentAt(t, cursor);
+  c.point = timeline_.positionAt(t, cursor);
+  if (segment == PathTimeline::npos)
+    return c;
+  const PathSegment& s = timeline_.segments()[segment];
+  if (!s.mark)
+    c.kind = Kind::Jump;
+  else
+    c.kind = s.polyline < contour_polyline_.size() && contour_polyline_[s.polyline] ? Kind::Contour : Kind::Hatch;
+  c.speed_mps = s.dwell || s.delay ? 0.0 : s.speed_mps;
+  return c;
+}
+
+void LayerQuality::addTo(ContourErrorSplit& split, Kind kind, double error_m)
+{
+  switch (kind)
+  {
+    case Kind::Contour:
+      split.mark.add(error_m);
+      split.contour.add(error_m);
+      break;
+    case Kind::Hatch:
+      split.mark.add(error_m);
+      split.hatch.add(error_m);
+      break;
+    case Kind::Jump:
+      split.jump.add(error_m);
+      break;
+    case Kind::None:
+      break;
+  }
+}
+
+void LayerQuality::sameInstant(std::uint64_t k)
+{
+  // Command k pairs with sample j = k + L, which the ring holds with whichever neighbours arrived.
+  const Command c = commandAt(k, command_cursor_);
+  fill_.addCommanded(c.point, c.kind == Kind::Hatch);
+  const std::uint64_t j = k + lag_samples_;
+  double best = INFINITY;
+  for (int a = 0; a + 1 < ring_size_; ++a)
+  {
+    const int slot_a = (3 - ring_size_ + a);
+    if (ring_index_[slot_a] == j || ring_index_[slot_a + 1] == j)
+      best = std::min(best, pointSegmentDistance(c.point, ring_[slot_a], ring_[slot_a + 1]));
+  }
+  if (ring_size_ == 1 && ring_index_[2] == j)
+    best = (c.point - ring_[2]).norm();  // an isolated sample: the distance to it
+  if (std::isinf(best))
+  {
+    ++report_.unmatched_points;  // the ring lost j at a gap
+    return;
+  }
+  addTo(report_.same_instant, c.kind, best);
+}
+
+void LayerQuality::unmatched(std::uint64_t k)
+{
+  const Command c = commandAt(k, command_cursor_);
+  fill_.addCommanded(c.point, c.kind == Kind::Hatch);
+  ++report_.unmatched_points;
+}
+
+void LayerQuality::process(const SpotChunk& chunk)
+{
+  if (!started_)
+  {
+    period_s_ = chunk.period_s;
+    lag_samples_ = static_cast<std::uint64_t>(std::llround(std::max(0.0, report_.lag_s) / period_s_));
+    // Commanded points: k·Ts < layer time (the same rounding as the NC's sample times).
+    program_samples_ = static_cast<std::uint64_t>(std::ceil(report_.layer_time_s / period_s_ - 1e-9));
+    report_.commanded_points = program_samples_;
+  }
+  for (std::size_t n = 0; n < chunk.samples.size(); ++n)
+  {
+    const std::uint64_t m = chunk.first_index + n;
+    if (started_ && m < next_index_)
+      continue;  // already seen
+    const SpotSample& s = chunk.samples[n];
+    if (started_ && m > next_index_)
+    {
+      // Gap: the commands paired with the last sample use its one segment; those paired with the
+      // missing samples are unmatched.
+      while (next_command_ < program_samples_ && next_command_ + lag_samples_ < next_index_)
+        sameInstant(next_command_++);
+      const std::uint64_t resume = m > lag_samples_ ? m - lag_samples_ : 0;
+      while (next_command_ < std::min(resume, program_samples_))
+        unmatched(next_command_++);
+      next_command_ = std::max(next_command_, resume);
+      ring_size_ = 0;
+      fill_.breakActual();
+      if (keep_path_)
+        path_.breakPath();
+      path_gapped_ = true;
+    }
+    // Angle errors over the program, speed and fill against the same-instant command.
+    if (m < program_samples_)
+    {
+      report_.angle_error_x.add(s.angle_error.x());
+      report_.angle_error_y.add(s.angle_error.y());
+    }
+    const Command c = commandAt(m >= lag_samples_ ? m - lag_samples_ : program_samples_, lagged_cursor_);
+    const bool marking = s.power_w > 0.0 && (c.kind == Kind::Hatch || c.kind == Kind::Contour);
+    fill_.addActual(s.actual, s.power_w > 0.0 && c.kind == Kind::Hatch);
+    if (marking && c.speed_mps > 0.0 && ring_size_ > 0)
+    {
+      const double ratio = (s.actual - ring_[2]).norm() / period_s_ / c.speed_mps;
+      report_.mark_speed_ratio.add(ratio);
+      speed_weighted_ += ratio;
+      speed_time_ += 1.0;
+    }
+    if (keep_path_)
+      path_.add(s.actual);
+    // Shift the ring: slot 2 is the newest.
+    ring_index_[0] = ring_index_[1];
+    ring_[0] = ring_[1];
+    ring_index_[1] = ring_index_[2];
+    ring_[1] = ring_[2];
+    ring_index_[2] = m;
+    ring_[2] = s.actual;
+    ring_size_ = std::min(ring_size_ + 1, 3);
+    started_ = true;
+    next_index_ = m + 1;
+    // Command k is complete once sample k + L + 1 is in (both segments around j = k + L).
+    while (next_command_ < program_samples_ && next_command_ + lag_samples_ + 1 <= m)
+      sameInstant(next_command_++);
+  }
+}
+
+LayerQualityReport LayerQuality::finish()
+{
+  // The last commands pair with the last sample (one segment) or with none (unmatched).
+  while (next_command_ < program_samples_)
+  {
+    if (started_ && next_command_ + lag_samples_ < next_index_)
+      sameInstant(next_command_);
+    else
+      unmatched(next_command_);
+    ++next_command_;
+  }
+  std::size_t index_bytes = 0;
+  if (keep_path_ && !path_.empty())
+  {
+    const NearestPathIndex index(path_);
+    index_bytes = index.memoryBytes();
+    PathTimeline::Cursor cursor;
+    for (std::uint64_t k = 0; k < program_samples_; ++k)
+    {
+      const Command c = commandAt(k, cursor);
+      const std::uint64_t j = k + lag_samples_;
+      // The same-instant error on the stored path bounds the search (exact: a distance to it).
+      const double bound = !path_gapped_ && j < path_.size() ? sameInstantDistance(path_, static_cast<std::size_t>(j), c.point)
+                                                             : INFINITY;
+      addTo(report_.nearest_path, c.kind, index.distance(c.point, bound));
+    }
+  }
+  report_.fill_cells_to_fill = fill_.cellsToFill();
+  report_.fill_cells_reached = fill_.cellsReached();
+  report_.fill_rate = fill_.fillRate();
+  report_.fill_points_outside = fill_.pointsOutside();
+  report_.mark_speed_mean_ratio = speed_time_ > 0.0 ? speed_weighted_ / speed_time_ : 0.0;
+  report_.memory_bytes = path_.memoryBytes() + index_bytes + fill_.memoryBytes();
+  return report_;
+}
+}  // namespace scanhead

@@ -1,0 +1,179 @@
+/// \file run_comparison.cpp
+#include "scanhead/core/run_comparison.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "scanhead/core/errors.hpp"
+#include "scanhead/core/number_text.hpp"
+
+namespace scanhead
+{
+namespace
+{
+struct Figure
+{
+  const char* key;
+  const char* label;
+  const char* unit;
+  double scale;
+  bool lower_is_better;
+};
+
+// What THESIS Table 3.1 and §2.6.2 compare, then the figures a process engineer adds.
+const Figure kFigures[] = {
+  { "layer_time_s", "layer time", "s", 1.0, true },
+  { "fill_rate", "fill rate (hatch)", "%", 100.0, false },
+  { "contour_error.same_instant.contour.share_under_10um", "contours < 10 um, same instant", "%", 100.0, false },
+  { "contour_error.same_instant.contour.share_under_20um", "contours < 20 um, same instant", "%", 100.0, false },
+  { "contour_error.same_instant.contour.share_under_30um", "contours < 30 um, same instant", "%", 100.0, false },
+  { "contour_error.nearest_path.contour.share_under_10um", "contours < 10 um, nearest path", "%", 100.0, false },
+  { "contour_error.nearest_path.contour.share_under_20um", "contours < 20 um, nearest path", "%", 100.0, false },
+  { "contour_error.nearest_path.contour.share_under_30um", "contours < 30 um, nearest path", "%", 100.0, false },
+  { "contour_error.same_instant.share_under_10um", "marks < 10 um, same instant", "%", 100.0, false },
+  { "contour_error.same_instant.share_under_30um", "marks < 30 um, same instant", "%", 100.0, false },
+  { "contour_error.same_instant.hatch.share_under_10um", "hatch < 10 um, same instant", "%", 100.0, false },
+  { "contour_error.same_instant.jump.share_under_30um", "jumps < 30 um, same instant", "%", 100.0, false },
+  { "contour_error.same_instant.contour.max_m", "contour error max, same instant", "um", 1e6, true },
+  { "contour_error.same_instant.contour.p99_m", "contour error p99, same instant", "um", 1e6, true },
+  { "speed_profile.mean_ratio", "mark speed / programmed (mean)", "%", 100.0, false },
+  { "speed_profile.share_below_90pct", "mark time below 90 % speed", "%", 100.0, true },
+  { "angle_error.x.quantiles.p99", "angle error x p99", "urad", 1.0, true },
+  { "angle_error.y.quantiles.p99", "angle error y p99", "urad", 1.0, true },
+  { "peak_energy_density_jpm2", "peak energy density", "J/mm^2", 1e-6, true },
+  { "track_energy.mean_jpm2", "mean energy along tracks", "J/mm^2", 1e-6, false },
+  { "corner_energy.max_peak_to_track_mean", "corner peak / track mean (max)", "x", 1.0, true },
+  { "laser_off_path_samples", "laser on off the marks", "samples", 1.0, true },
+  { "dropped_samples", "dropped samples", "samples", 1.0, true },
+};
+
+YAML::Node load(const std::string& path)
+{
+  YAML::Node root;
+  try
+  {
+    root = YAML::LoadFile(path);
+  }
+  catch (const YAML::BadFile&)
+  {
+    throw InputError(path + ": cannot read (give a results folder or its metrics.yaml)");
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw InputError(path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  if (!root.IsMap() || !root["job"] || !root["samples"])
+    throw InputError(path + ": not a scanhead metrics.yaml (no job/samples)");
+  return root;
+}
+
+/// The number at a dotted key; NaN where it is missing, null or not a number.
+double lookup(const YAML::Node& root, const std::string& key)
+{
+  YAML::Node node = YAML::Clone(root);
+  std::stringstream parts(key);
+  std::string part;
+  while (std::getline(parts, part, '.'))
+  {
+    if (!node.IsMap() || !node[part])
+      return NAN;
+    node = node[part];
+  }
+  if (!node.IsScalar())
+    return NAN;
+  double value = NAN;
+  const std::string text = node.Scalar();
+  if (text == ".nan")
+    return NAN;
+  if (parseNumber(text, value) != NumberText::Ok)
+    return NAN;
+  return value;
+}
+
+std::string cell(double v, const std::string& unit)
+{
+  if (std::isnan(v))
+    return "-";
+  char text[64];
+  if (unit == "%")
+    std::snprintf(text, sizeof text, "%.2f", v);
+  else if (unit == "samples")
+    std::snprintf(text, sizeof text, "%.0f", v);
+  else
+    std::snprintf(text, sizeof text, "%.4g", v);
+  return text;
+}
+
+std::string change(const ComparisonRow& r)
+{
+  if (std::isnan(r.a) || std::isnan(r.b))
+    return "";
+  char text[64];
+  if (r.unit == "%")
+    std::snprintf(text, sizeof text, "%+.2f pt", r.b - r.a);
+  else if (r.a != 0.0)
+    std::snprintf(text, sizeof text, "%+.1f %%", 100.0 * (r.b - r.a) / std::abs(r.a));
+  else
+    std::snprintf(text, sizeof text, "%+.4g", r.b - r.a);
+  return text;
+}
+}  // namespace
+
+RunComparison compareMetricsFiles(const std::string& metrics_a, const std::string& metrics_b)
+{
+  const YAML::Node a = load(metrics_a), b = load(metrics_b);
+  RunComparison c;
+  c.name_a = a["job"].as<std::string>();
+  c.name_b = b["job"].as<std::string>();
+  for (const Figure& f : kFigures)
+  {
+    ComparisonRow row;
+    row.key = f.key;
+    row.label = f.label;
+    row.unit = f.unit;
+    row.a = lookup(a, f.key) * f.scale;
+    row.b = lookup(b, f.key) * f.scale;
+    row.lower_is_better = f.lower_is_better;
+    c.rows.push_back(row);
+  }
+  return c;
+}
+
+std::string comparisonTable(const RunComparison& c)
+{
+  char line[256];
+  std::string out;
+  std::snprintf(line, sizeof line, "%-34s %-8s %16s %16s %12s\n", "figure", "unit", c.name_a.substr(0, 16).c_str(),
+                c.name_b.substr(0, 16).c_str(), "B - A");
+  out += line;
+  for (const ComparisonRow& r : c.rows)
+  {
+    std::snprintf(line, sizeof line, "%-34s %-8s %16s %16s %12s\n", r.label.c_str(), r.unit.c_str(),
+                  cell(r.a, r.unit).c_str(), cell(r.b, r.unit).c_str(), change(r).c_str());
+    out += line;
+  }
+  return out;
+}
+
+std::string comparisonYaml(const RunComparison& c)
+{
+  auto number = [](double v) { return std::isnan(v) ? std::string(".nan") : fullPrecisionText(v); };
+  std::string out = "runs: [\"" + c.name_a + "\", \"" + c.name_b + "\"]\nrows:\n";
+  for (const ComparisonRow& r : c.rows)
+    out += "  - {key: " + r.key + ", label: \"" + r.label + "\", unit: \"" + r.unit + "\", a: " + number(r.a) +
+           ", b: " + number(r.b) + ", lower_is_better: " + (r.lower_is_better ? "true" : "false") + "}\n";
+  return out;
+}
+
+std::string comparisonMarkdown(const RunComparison& c)
+{
+  std::string out = "| figure | unit | " + c.name_a + " | " + c.name_b + " | B − A |\n|---|---|---|---|---|\n";
+  for (const ComparisonRow& r : c.rows)
+    out += "| " + r.label + " | " + r.unit + " | " + cell(r.a, r.unit) + " | " + cell(r.b, r.unit) + " | " +
+           change(r) + " |\n";
+  return out;
+}
+}  // namespace scanhead

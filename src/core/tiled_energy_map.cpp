@@ -1,0 +1,354 @@
+/// \file tiled_energy_map.cpp
+/// \brief Sparse tiled energy map with a bounded cache and a spill file.
+#include "scanhead/core/tiled_energy_map.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "scanhead/core/errors.hpp"
+
+namespace scanhead
+{
+namespace
+{
+constexpr std::int64_t kTilePixels = static_cast<std::int64_t>(TiledEnergyMap::kTileSide) * TiledEnergyMap::kTileSide;
+constexpr std::size_t kTileBytes = static_cast<std::size_t>(kTilePixels) * sizeof(float);
+constexpr std::size_t kMinResidentTiles = 16;
+
+std::int64_t pixelsAcross(double extent_m, double pixel_m)
+{
+  // ceil with a 1e-9 pixel tolerance, as EnergyMap: a 100 µm box at 1 µm is 100 pixels.
+  return static_cast<std::int64_t>(std::max(1.0, std::ceil(extent_m / pixel_m - 1e-9)));
+}
+
+std::string ioError(const char* what)
+{
+  return std::string("energy map: cannot ") + what + " the tile spill file (" + std::strerror(errno) +
+         "): check the free space of the temporary directory (TMPDIR) or raise energy.tile_cache_bytes";
+}
+}  // namespace
+
+TiledEnergyMap::TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m,
+                               std::size_t cache_bytes)
+  : origin_(min_corner), pixel_(pixel_m)
+{
+  if (!(pixel_m > 0.0) || !std::isfinite(pixel_m))
+  {
+    std::ostringstream msg;
+    msg << "energy.pixel_m must be > 0 (got " << pixel_m << ")";
+    throw ConfigError(msg.str());
+  }
+  if (!min_corner.allFinite() || !max_corner.allFinite() || (max_corner.array() < min_corner.array()).any())
+  {
+    std::ostringstream msg;
+    msg << "energy map bounds must be finite with max >= min (got min (" << min_corner.x() << ", "
+        << min_corner.y() << ") m, max (" << max_corner.x() << ", " << max_corner.y() << ") m)";
+    throw InputError(msg.str());
+  }
+  const double extent = std::max(max_corner.x() - min_corner.x(), max_corner.y() - min_corner.y());
+  if (extent / pixel_m > 1e9)
+  {
+    std::ostringstream msg;
+    msg << "energy.pixel_m = " << pixel_m << " m is too fine for a " << extent << " m map (over 1e9 pixels a side)";
+    throw ConfigError(msg.str());
+  }
+  width_ = pixelsAcross(max_corner.x() - min_corner.x(), pixel_m);
+  height_ = pixelsAcross(max_corner.y() - min_corner.y(), pixel_m);
+  tiles_x_ = (width_ + kTileSide - 1) / kTileSide;
+  tiles_y_ = (height_ + kTileSide - 1) / kTileSide;
+  if (static_cast<double>(tiles_x_) * static_cast<double>(tiles_y_) > 2147483647.0)
+  {
+    std::ostringstream msg;
+    msg << "energy.pixel_m = " << pixel_m << " m gives " << tiles_x_ << " x " << tiles_y_
+        << " tiles (limit 2^31): increase energy.pixel_m or reduce the job extent";
+    throw ConfigError(msg.str());
+  }
+  max_resident_ = std::max(kMinResidentTiles, cache_bytes / kTileBytes);
+  slot_of_tile_.assign(static_cast<std::size_t>(tiles_x_ * tiles_y_), -1);
+  peak_resident_ = 0;
+}
+
+TiledEnergyMap::~TiledEnergyMap()
+{
+  if (spill_file_ != nullptr)
+    std::fclose(spill_file_);
+}
+
+TiledEnergyMap::TiledEnergyMap(TiledEnergyMap&& other) noexcept
+{
+  *this = std::move(other);
+}
+
+TiledEnergyMap& TiledEnergyMap::operator=(TiledEnergyMap&& other) noexcept
+{
+  if (this != &other)
+  {
+    if (spill_file_ != nullptr)
+      std::fclose(spill_file_);
+    origin_ = other.origin_;
+    pixel_ = other.pixel_;
+    width_ = other.width_;
+    height_ = other.height_;
+    tiles_x_ = other.tiles_x_;
+    tiles_y_ = other.tiles_y_;
+    max_resident_ = other.max_resident_;
+    slot_of_tile_ = std::move(other.slot_of_tile_);
+    slots_ = std::move(other.slots_);
+    buffers_ = std::move(other.buffers_);
+    free_buffers_ = std::move(other.free_buffers_);
+    resident_ = other.resident_;
+    peak_resident_ = other.peak_resident_;
+    spilled_tiles_ = other.spilled_tiles_;
+    clock_ = other.clock_;
+    spill_file_ = other.spill_file_;
+    spill_end_ = other.spill_end_;
+    other.spill_file_ = nullptr;
+  }
+  return *this;
+}
+
+void TiledEnergyMap::spill(Slot& slot) const
+{
+  if (spill_file_ == nullptr)
+  {
+    spill_file_ = std::tmpfile();
+    if (spill_file_ == nullptr)
+      throw InputError(ioError("create"));
+  }
+  if (slot.file_offset < 0)
+  {
+    slot.file_offset = spill_end_;
+    spill_end_ += static_cast<std::int64_t>(kTileBytes);
+    ++spilled_tiles_;
+  }
+  const ssize_t n = ::pwrite(fileno(spill_file_), slot.data, kTileBytes, slot.file_offset);
+  if (n != static_cast<ssize_t>(kTileBytes))
+    throw InputError(ioError("write"));
+  free_buffers_.push_back(slot.data);
+  slot.data = nullptr;
+  --resident_;
+}
+
+void TiledEnergyMap::load(Slot& slot) const
+{
+  makeRoom();
+  slot.data = free_buffers_.back();
+  free_buffers_.pop_back();
+  ++resident_;
+  const ssize_t n = ::pread(fileno(spill_file_), slot.data, kTileBytes, slot.file_offset);
+  if (n != static_cast<ssize_t>(kTileBytes))
+    throw InputError(ioError("read"));
+}
+
+void TiledEnergyMap::makeRoom() const
+{
+  if (resident_ >= max_resident_)
+  {
+    // Spill the least recently used eighth at once: the sort is paid every max/8 misses, not on each.
+    std::vector<Slot*> resident;
+    resident.reserve(resident_);
+    for (Slot& s : slots_)
+      if (s.data != nullptr)
+        resident.push_back(&s);
+    const std::size_t count = std::max<std::size_t>(1, resident.size() / 8);
+    std::nth_element(resident.begin(), resident.begin() + static_cast<std::ptrdiff_t>(count - 1), resident.end(),
+                     [](const Slot* a, const Slot* b) { return a->last_use < b->last_use; });
+    for (std::size_t k = 0; k < count; ++k)
+      spill(*resident[k]);
+  }
+  if (free_buffers_.empty())
+  {
+    buffers_.emplace_back(new float[kTilePixels]);
+    free_buffers_.push_back(buffers_.back().get());
+  }
+  peak_resident_ = std::max(peak_resident_, resident_ + 1);
+}
+
+float* TiledEnergyMap::tileForWrite(std::int64_t tile) const
+{
+  std::int32_t& index = slot_of_tile_[static_cast<std::size_t>(tile)];
+  if (index < 0)
+  {
+    makeRoom();
+    Slot slot;
+    slot.tile = tile;
+    slot.data = free_buffers_.back();
+    free_buffers_.pop_back();
+    std::fill(slot.data, slot.data + kTilePixels, 0.0f);
+    ++resident_;
+    index = static_cast<std::int32_t>(slots_.size());
+    slots_.push_back(slot);
+  }
+  Slot& slot = slots_[static_cast<std::size_t>(index)];
+  slot.last_use = ++clock_;
+  if (slot.data == nullptr)
+    load(slot);
+  return slot.data;
+}
+
+const float* TiledEnergyMap::tileForRead(std::int64_t tile, float* scratch) const
+{
+  const std::int32_t index = slot_of_tile_[static_cast<std::size_t>(tile)];
+  if (index < 0)
+    return nullptr;
+  const Slot& slot = slots_[static_cast<std::size_t>(index)];
+  if (slot.data != nullptr)
+    return slot.data;
+  const ssize_t n = ::pread(fileno(spill_file_), scratch, kTileBytes, slot.file_offset);
+  if (n != static_cast<ssize_t>(kTileBytes))
+    throw InputError(ioError("read"));
+  return scratch;
+}
+
+float TiledEnergyMap::at(std::int64_t col, std::int64_t row) const
+{
+  if (col < 0 || row < 0 || col >= width_ || row >= height_)
+    return 0.0f;
+  const std::int64_t tile = (row / kTileSide) * tiles_x_ + col / kTileSide;
+  if (slot_of_tile_[static_cast<std::size_t>(tile)] < 0)
+    return 0.0f;
+  // Through the cache: lookups along a track come back to the same tiles.
+  const float* data = tileForWrite(tile);
+  return data[(row % kTileSide) * kTileSide + col % kTileSide];
+}
+
+void TiledEnergyMap::addRow(std::int64_t row, std::int64_t col, const float* x, float c, int n)
+{
+  const std::int64_t tile_row = (row / kTileSide) * tiles_x_;
+  const std::int64_t in_row = (row % kTileSide) * kTileSide;
+  int done = 0;
+  while (done < n)
+  {
+    const std::int64_t column = col + done;
+    const std::int64_t in_col = column % kTileSide;
+    const int count = static_cast<int>(std::min<std::int64_t>(n - done, kTileSide - in_col));
+    float* y = tileForWrite(tile_row + column / kTileSide) + in_row + in_col;
+    axpyRow(y, x + done, c, count);
+    done += count;
+  }
+}
+
+void TiledEnergyMap::forEachTile(const std::function<void(std::int64_t, std::int64_t, const float*)>& f) const
+{
+  std::vector<float> scratch(static_cast<std::size_t>(kTilePixels));
+  for (std::int64_t tile = 0; tile < tiles_x_ * tiles_y_; ++tile)
+  {
+    const float* data = tileForRead(tile, scratch.data());
+    if (data != nullptr)
+      f(tile % tiles_x_, tile / tiles_x_, data);
+  }
+}
+
+double TiledEnergyMap::totalEnergy() const
+{
+  double total = 0.0;
+  forEachTile([&](std::int64_t, std::int64_t, const float* data) {
+    // Eight partial sums in a fixed order: deterministic, and the adds overlap.
+    double lanes[8] = {};
+    for (std::int64_t i = 0; i < kTilePixels; i += 8)
+      for (int k = 0; k < 8; ++k)
+        lanes[k] += data[i + k];
+    for (const double lane : lanes)
+      total += lane;
+  });
+  return total * pixel_ * pixel_;
+}
+
+double TiledEnergyMap::peak() const
+{
+  float m = 0.0f;
+  forEachTile([&](std::int64_t, std::int64_t, const float* data) {
+    float lanes[8] = {};
+    for (std::int64_t i = 0; i < kTilePixels; i += 8)
+      for (int k = 0; k < 8; ++k)
+        lanes[k] = data[i + k] > lanes[k] ? data[i + k] : lanes[k];
+    for (const float lane : lanes)
+      m = std::max(m, lane);
+  });
+  return m;
+}
+
+void TiledEnergyMap::clear()
+{
+  std::fill(slot_of_tile_.begin(), slot_of_tile_.end(), -1);
+  for (Slot& s : slots_)
+    if (s.data != nullptr)
+      free_buffers_.push_back(s.data);
+  slots_.clear();
+  resident_ = 0;
+  spilled_tiles_ = 0;
+  spill_end_ = 0;
+}
+
+EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int64_t w, std::int64_t h) const
+{
+  const std::int64_t c0 = std::clamp<std::int64_t>(col0, 0, width_ - 1);
+  const std::int64_t r0 = std::clamp<std::int64_t>(row0, 0, height_ - 1);
+  const std::int64_t c1 = std::clamp<std::int64_t>(col0 + w, c0 + 1, width_);
+  const std::int64_t r1 = std::clamp<std::int64_t>(row0 + h, r0 + 1, height_);
+  const Eigen::Vector2d lo = origin_ + pixel_ * Eigen::Vector2d(static_cast<double>(c0), static_cast<double>(r0));
+  EnergyMap out(lo, lo + pixel_ * Eigen::Vector2d(static_cast<double>(c1 - c0), static_cast<double>(r1 - r0)), pixel_);
+  std::vector<float> scratch(static_cast<std::size_t>(kTilePixels));
+  for (std::int64_t tj = r0 / kTileSide; tj <= (r1 - 1) / kTileSide; ++tj)
+    for (std::int64_t ti = c0 / kTileSide; ti <= (c1 - 1) / kTileSide; ++ti)
+    {
+      const float* data = tileForRead(tj * tiles_x_ + ti, scratch.data());
+      if (data == nullptr)
+        continue;
+      const std::int64_t rr0 = std::max(r0, tj * kTileSide), rr1 = std::min(r1, (tj + 1) * kTileSide);
+      const std::int64_t cc0 = std::max(c0, ti * kTileSide), cc1 = std::min(c1, (ti + 1) * kTileSide);
+      for (std::int64_t r = rr0; r < rr1; ++r)
+        std::copy(data + (r - tj * kTileSide) * kTileSide + (cc0 - ti * kTileSide),
+                  data + (r - tj * kTileSide) * kTileSide + (cc1 - ti * kTileSide),
+                  out.row(static_cast<int>(r - r0)) + (cc0 - c0));
+    }
+  return out;
+}
+
+int TiledEnergyMap::overviewFactor(int max_side) const
+{
+  const std::int64_t side = std::max(width_, height_);
+  return static_cast<int>(std::max<std::int64_t>(1, (side + std::max(1, max_side) - 1) / std::max(1, max_side)));
+}
+
+EnergyMap TiledEnergyMap::overview(int factor) const
+{
+  const std::int64_t f = std::max(1, factor);
+  const std::int64_t w = (width_ + f - 1) / f, h = (height_ + f - 1) / f;
+  const double big = pixel_ * static_cast<double>(f);
+  EnergyMap out(origin_, origin_ + big * Eigen::Vector2d(static_cast<double>(w), static_cast<double>(h)), big);
+  // Sums in double per output pixel, in tile order (deterministic), then the block mean.
+  std::vector<double> sum(static_cast<std::size_t>(out.width()) * static_cast<std::size_t>(out.height()), 0.0);
+  forEachTile([&](std::int64_t ti, std::int64_t tj, const float* data) {
+    for (std::int64_t r = 0; r < kTileSide; ++r)
+    {
+      const std::int64_t row = tj * kTileSide + r;
+      if (row >= height_)
+        break;
+      double* out_row = sum.data() + static_cast<std::size_t>(row / f) * static_cast<std::size_t>(out.width());
+      for (std::int64_t c = 0; c < kTileSide; ++c)
+      {
+        const std::int64_t col = ti * kTileSide + c;
+        if (col >= width_)
+          break;
+        out_row[col / f] += data[r * kTileSide + c];
+      }
+    }
+  });
+  const double inv = 1.0 / static_cast<double>(f * f);
+  for (int r = 0; r < out.height(); ++r)
+    for (int c = 0; c < out.width(); ++c)
+      out.row(r)[c] = static_cast<float>(sum[static_cast<std::size_t>(r) * static_cast<std::size_t>(out.width()) + c] * inv);
+  return out;
+}
+
+std::size_t TiledEnergyMap::peakResidentBytes() const
+{
+  return peak_resident_ * kTileBytes + slot_of_tile_.size() * sizeof(std::int32_t) + slots_.capacity() * sizeof(Slot);
+}
+}  // namespace scanhead
