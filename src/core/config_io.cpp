@@ -144,6 +144,31 @@ void visitSettings(Config& c, F&& f)
   f("energy.crop_regions", c.energy.crop_regions);
   f("energy.contour_max_samples", c.energy.contour_max_samples);
   f("energy.contour_lag_s", c.energy.contour_lag_s);
+  f("thermal.enabled", c.thermal.enabled);
+  f("thermal.start_s", c.thermal.start_s);
+  f("thermal.duration_s", c.thermal.duration_s);
+  f("thermal.density_solid_kg_m3", c.thermal.model.density_solid_kg_m3);
+  f("thermal.density_powder_kg_m3", c.thermal.model.density_powder_kg_m3);
+  f("thermal.heat_capacity_solid_j_kg_k", c.thermal.model.heat_capacity_solid_j_kg_k);
+  f("thermal.heat_capacity_powder_j_kg_k", c.thermal.model.heat_capacity_powder_j_kg_k);
+  f("thermal.conductivity_solid_w_m_k", c.thermal.model.conductivity_solid_w_m_k);
+  f("thermal.conductivity_powder_w_m_k", c.thermal.model.conductivity_powder_w_m_k);
+  f("thermal.loss_depth_m", c.thermal.model.loss_depth_m);
+  f("thermal.layer_thickness_m", c.thermal.model.layer_thickness_m);
+  f("thermal.melt_temperature_k", c.thermal.model.melt_temperature_k);
+  f("thermal.ambient_temperature_k", c.thermal.model.ambient_temperature_k);
+  f("thermal.phase_switch", c.thermal.model.phase_switch);
+  f("thermal.absorptivity", c.thermal.model.absorptivity);
+  f("thermal.spot_diameter_m", c.thermal.model.spot_diameter_m);
+  f("thermal.source_truncation_radii", c.thermal.model.source_truncation_radii);
+  f("thermal.max_substep_radii", c.thermal.model.max_substep_radii);
+  f("thermal.cell_m", c.thermal.model.cell_m);
+  f("thermal.window_m", c.thermal.model.window_m);
+  f("thermal.recentre_margin_m", c.thermal.model.recentre_margin_m);
+  f("thermal.step_samples", c.thermal.model.step_samples);
+  f("thermal.face_conductivity", c.thermal.model.face_conductivity);
+  f("thermal.active_threshold_k", c.thermal.model.active_threshold_k);
+  f("thermal.settle_time_s", c.thermal.model.settle_time_s);
 }
 
 std::string origin(const std::string& key, const ConfigValue& v)
@@ -358,5 +383,13 @@ void ChainConfig::validate() const
   servo.validate();
   optics.validate();
   energy.validate();
+  thermal.validate();
+}
+
+void ThermalStageConfig::validate() const
+{
+  requireSetting(std::isfinite(start_s) && start_s >= 0.0, "thermal.start_s", ">= 0", start_s);
+  requireSetting(std::isfinite(duration_s), "thermal.duration_s", "finite (<= 0: to the end)", duration_s);
+  model.validate();
 }
 }  // namespace scanhead

@@ -116,7 +116,7 @@ std::vector<MapRegion> parseMapRegions(const std::string& text)
 }
 
 double writeEnergyImages(const std::string& dir_text, const std::string& stem, const EnergyMap& map,
-                         const std::string& description)
+                         const std::string& description, const std::string& quantity)
 {
   const fs::path dir(dir_text);
   const double scale = map.peak();
@@ -133,13 +133,14 @@ double writeEnergyImages(const std::string& dir_text, const std::string& stem, c
   tiff.pixel_x_m = tiff.pixel_y_m = map.pixel();
   tiff.x_left_m = map.origin().x();
   tiff.y_top_m = map.origin().y() + map.pixel() * map.height();
-  tiff.description = "energy density [J/m^2], " + description + ", pixel " + fullPrecisionText(map.pixel()) + " m";
+  tiff.description = quantity + ", " + description + ", pixel " + fullPrecisionText(map.pixel()) + " m";
   writeFloatTiff((dir / (stem + ".tiff")).string(), map.width(), map.height(), top_down.data(), tiff);
   writeText(dir / (stem + ".yaml"),
             "# " + description + "\n"
+            "# values: " + quantity + "\n"
             "# " + stem + "_16bit.png: E = value / 65535 * scale_max_jpm2, row 0 = top (+y up)\n"
             "# " + stem + ".png: inferno colour map, colour bar on the right from 0 (bottom) to scale_max_jpm2 (top)\n"
-            "# " + stem + ".tiff: float32 E [J/m^2], row 0 = top, GeoTIFF pixel scale and tie point in metres\n"
+            "# " + stem + ".tiff: float32 values, row 0 = top, GeoTIFF pixel scale and tie point in metres\n"
             "width: " + std::to_string(map.width()) + "\nheight: " + std::to_string(map.height()) +
             "\npixel_m: " + fullPrecisionText(map.pixel()) + "\norigin_m: [" + fullPrecisionText(map.origin().x()) +
             ", " + fullPrecisionText(map.origin().y()) + "]  # lower-left corner\nscale_max_jpm2: " +

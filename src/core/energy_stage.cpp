@@ -65,6 +65,8 @@ EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcInte
   , nc_stats_(nc.stats())
   , quality_(makeLayerQuality(config, job, nc))
 {
+  if (config.thermal.enabled)
+    thermal_ = std::make_unique<ThermalLayer>(config.thermal.model);
   for (const Polyline& line : job.polylines)
   {
     if (line.type == PolylineType::Mark && !line.points.empty())
@@ -85,6 +87,29 @@ void EnergyStage::process(const SpotChunk& chunk)
   trace_.process(chunk);
   keepTrack(chunk);
   quality_.process(chunk);
+  if (thermal_)
+    feedThermal(chunk);
+}
+
+void EnergyStage::feedThermal(const SpotChunk& chunk)
+{
+  // The samples of the thermal time window only (the model skips indices it has seen, and treats
+  // a gap as laser off).
+  std::size_t first = 0;
+  while (first < chunk.samples.size() && !config_.thermal.covers(chunk.first_index + first, chunk.period_s))
+    ++first;
+  std::size_t end = first;
+  while (end < chunk.samples.size() && config_.thermal.covers(chunk.first_index + end, chunk.period_s))
+    ++end;
+  if (first == end)
+    return;
+  SpotChunk part;
+  part.first_index = chunk.first_index + first;
+  part.period_s = chunk.period_s;
+  part.samples.assign(chunk.samples.begin() + static_cast<std::ptrdiff_t>(first),
+                      chunk.samples.begin() + static_cast<std::ptrdiff_t>(end));
+  thermal_->process(part);
+  thermal_samples_ += part.samples.size();
 }
 
 void EnergyStage::keepTrack(const SpotChunk& chunk)
@@ -177,6 +202,15 @@ RunMetrics EnergyStage::finish()
   if (track.mean_jpm2 > 0.0 && !m.corners.empty())
     m.corner_peak_to_track_mean = ratio_sum / static_cast<double>(m.corners.size());
   m.quality = quality_.finish();
+  if (thermal_)
+  {
+    thermal_->finish();
+    m.thermal_enabled = true;
+    m.thermal_samples = thermal_samples_;
+    m.thermal_melt_pool = thermal_->stats();
+    m.thermal_energy = thermal_->energy();
+    m.thermal_melted_area_m2 = thermal_->meltedArea();
+  }
   m.map_tiles = accumulator_.map().tilesTouched();
   m.map_tiles_spilled = accumulator_.map().tilesSpilled();
   m.peak_memory_bytes = accumulator_.map().peakResidentBytes() + m.quality.memory_bytes + track_peak_bytes_;

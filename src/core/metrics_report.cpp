@@ -81,6 +81,29 @@ std::string qualityYaml(const LayerQualityReport& q)
   return out;
 }
 
+std::string thermalYaml(const RunMetrics& m)
+{
+  if (!m.thermal_enabled)
+    return "thermal: null  # off (thermal.enabled)\n";
+  const MeltPoolStats& p = m.thermal_melt_pool;
+  const ThermalEnergy& e = m.thermal_energy;
+  std::string out = "thermal:  # PATH 2D layer model on the window thermal.start_s + duration_s\n";
+  out += "  samples: " + std::to_string(m.thermal_samples) + "\n";
+  out += "  steps: " + std::to_string(p.steps) + "\n";
+  out += "  steady_steps: " + std::to_string(p.steady_steps) + "  # laser on for longer than thermal.settle_time_s\n";
+  out += "  melt_pool_length_m: {steady_mean: " + fullPrecisionText(p.steady_length_mean_m) +
+         ", steady_std: " + fullPrecisionText(p.steady_length_std_m) + ", max: " + fullPrecisionText(p.max_length_m) + "}\n";
+  out += "  melt_pool_width_m: {steady_mean: " + fullPrecisionText(p.steady_width_mean_m) +
+         ", steady_std: " + fullPrecisionText(p.steady_width_std_m) + ", max: " + fullPrecisionText(p.max_width_m) + "}\n";
+  out += "  peak_rise_k: {steady_mean: " + fullPrecisionText(p.steady_peak_mean_k) + ", max: " + fullPrecisionText(p.max_peak_k) + "}\n";
+  out += "  melted_area_m2: " + fullPrecisionText(m.thermal_melted_area_m2) + "\n";
+  out += "  energy_j: {absorbed: " + fullPrecisionText(e.absorbed_j) + ", stored: " + fullPrecisionText(e.stored_j) +
+         ", lost: " + fullPrecisionText(e.lost_j) + ", outside_window: " + fullPrecisionText(e.outside_j) +
+         ", left_window: " + fullPrecisionText(e.left_window_j) + ", truncated: " + fullPrecisionText(e.truncated_j) +
+         ", phase_switch: " + fullPrecisionText(e.phase_switch_j) + ", residual: " + fullPrecisionText(e.residual_j()) + "}\n";
+  return out;
+}
+
 double relative(double value, double reference)
 {
   return reference != 0.0 ? (value - reference) / reference : 0.0;
@@ -131,6 +154,7 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "corner_energy: {mean_peak_to_track_mean: " << fullPrecisionText(m.corner_peak_to_track_mean)
       << ", max_peak_to_track_mean: " << fullPrecisionText(m.corner_peak_to_track_mean_max) << "}\n";
   out << qualityYaml(m.quality);
+  out << thermalYaml(m);
   out << "corners:" << (m.corners.empty() ? " []\n" : "\n");
   for (const CornerReport& c : m.corners)
   {

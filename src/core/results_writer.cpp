@@ -9,6 +9,7 @@
 
 #include "scanhead/core/batch_chain.hpp"
 #include "scanhead/core/energy_exports.hpp"
+#include "scanhead/core/thermal_images.hpp"
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/job_io.hpp"
@@ -61,6 +62,8 @@ void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, 
     writeJobPicture((tmp / "job.png").string(), job, 1600);
     writeText(tmp / "trace.csv", energy.trace().csv(config.nc.period_s));
     writeEnergyExports(tmp.string(), energy.map(), job, config.energy);
+    if (energy.thermal() != nullptr)
+      writeThermalImages(tmp.string(), *energy.thermal());
     if (finish)
       finish(tmp.string());
     if (fs::exists(dir))

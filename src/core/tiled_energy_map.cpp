@@ -126,9 +126,13 @@ void TiledEnergyMap::spill(Slot& slot) const
     spill_end_ += static_cast<std::int64_t>(kTileBytes);
     ++spilled_tiles_;
   }
-  const ssize_t n = ::pwrite(fileno(spill_file_), slot.data, kTileBytes, slot.file_offset);
-  if (n != static_cast<ssize_t>(kTileBytes))
-    throw InputError(ioError("write"));
+  if (slot.dirty)  // a tile only read since it came back is already in the file
+  {
+    const ssize_t n = ::pwrite(fileno(spill_file_), slot.data, kTileBytes, slot.file_offset);
+    if (n != static_cast<ssize_t>(kTileBytes))
+      throw InputError(ioError("write"));
+    slot.dirty = false;
+  }
   free_buffers_.push_back(slot.data);
   slot.data = nullptr;
   --resident_;
@@ -143,6 +147,7 @@ void TiledEnergyMap::load(Slot& slot) const
   const ssize_t n = ::pread(fileno(spill_file_), slot.data, kTileBytes, slot.file_offset);
   if (n != static_cast<ssize_t>(kTileBytes))
     throw InputError(ioError("read"));
+  slot.dirty = false;
 }
 
 void TiledEnergyMap::makeRoom() const
@@ -170,6 +175,13 @@ void TiledEnergyMap::makeRoom() const
 }
 
 float* TiledEnergyMap::tileForWrite(std::int64_t tile) const
+{
+  float* data = residentTile(tile);
+  slots_[static_cast<std::size_t>(slot_of_tile_[static_cast<std::size_t>(tile)])].dirty = true;
+  return data;
+}
+
+float* TiledEnergyMap::residentTile(std::int64_t tile) const
 {
   std::int32_t& index = slot_of_tile_[static_cast<std::size_t>(tile)];
   if (index < 0)
@@ -213,7 +225,7 @@ float TiledEnergyMap::at(std::int64_t col, std::int64_t row) const
   if (slot_of_tile_[static_cast<std::size_t>(tile)] < 0)
     return 0.0f;
   // Through the cache: lookups along a track come back to the same tiles.
-  const float* data = tileForWrite(tile);
+  const float* data = residentTile(tile);
   return data[(row % kTileSide) * kTileSide + col % kTileSide];
 }
 

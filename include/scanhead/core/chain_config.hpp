@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "scanhead/core/energy_config.hpp"
@@ -10,6 +11,7 @@
 #include "scanhead/core/optics_config.hpp"
 #include "scanhead/core/recipe.hpp"
 #include "scanhead/core/servo_config.hpp"
+#include "scanhead/core/thermal_config.hpp"
 
 namespace scanhead
 {
@@ -34,6 +36,23 @@ struct CamConfig
   void validate() const;
 };
 
+/// \brief The optional thermal view of the energy stage (SPEC §5, PATH): off by default, and run on
+/// a time window of the job, since it is slow (~3e4 samples/s: a whole layer would take hours).
+struct ThermalStageConfig
+{
+  bool enabled = false;      ///< run the thermal model on the spot stream
+  double start_s = 0.0;      ///< machine time it starts at [s]
+  double duration_s = 0.05;  ///< how long it runs [s]; <= 0: to the end of the job
+  ThermalConfig model;       ///< the model (keys thermal.<field>)
+  void validate() const;
+  /// \brief Whether sample \p index at period \p period_s lies in the window.
+  bool covers(std::uint64_t index, double period_s) const
+  {
+    const double t = static_cast<double>(index) * period_s;
+    return enabled && t >= start_s && (duration_s <= 0.0 || t < start_s + duration_s);
+  }
+};
+
 struct ChainConfig
 {
   CamConfig cam;
@@ -43,6 +62,7 @@ struct ChainConfig
   ServoConfig servo;
   OpticsConfig optics;
   EnergyConfig energy;
+  ThermalStageConfig thermal;
 
   /// \brief Validates every section. \throws ConfigError naming the first bad field
   void validate() const;

@@ -31,9 +31,10 @@ std::vector<MapRegion> parseMapRegions(const std::string& text);
 
 /// \brief Writes \p stem.png (inferno with colour bar), \p stem_16bit.png (linear 0..scale),
 /// \p stem.tiff (float32 J/m², with the pixel size and position as GeoTIFF tags) and \p stem.yaml
-/// (geometry and scale) for \p map into \p dir. \return the scale used [J/m²] (the map's peak)
+/// (geometry and scale) for \p map into \p dir; \p quantity names what the floats are (any field on a
+/// grid: the thermal view writes temperatures this way). \return the scale used (the map's peak)
 double writeEnergyImages(const std::string& dir, const std::string& stem, const EnergyMap& map,
-                         const std::string& description);
+                         const std::string& description, const std::string& quantity = "energy density [J/m^2]");
 
 /// \brief The whole export of a run into \p dir: the overview (full resolution up to
 /// kOverviewSide pixels a side, else block means) as energy_map.*, the first config.crop_parts

@@ -9,6 +9,7 @@
 #include "scanhead/core/energy_accumulator.hpp"
 #include "scanhead/core/laser_placement.hpp"
 #include "scanhead/core/layer_quality.hpp"
+#include "scanhead/core/thermal_layer.hpp"
 #include "scanhead/core/laser_settling.hpp"
 #include "scanhead/core/nc_interpolator.hpp"
 #include "scanhead/core/run_metrics.hpp"
@@ -35,10 +36,13 @@ public:
   const TiledEnergyMap& map() const { return accumulator_.map(); }
   const TraceRecorder& trace() const { return trace_; }
   std::uint64_t samplesSeen() const { return counter_.samples(); }
+  /// \brief The thermal view, or nullptr when thermal.enabled is false.
+  const ThermalLayer* thermal() const { return thermal_.get(); }
 
 private:
   void keepTrack(const SpotChunk& chunk);
   void thinTrack();
+  void feedThermal(const SpotChunk& chunk);
 
   ChainConfig config_;
   std::string job_name_;
@@ -55,5 +59,7 @@ private:
   TraceRecorder trace_;
   NcStats nc_stats_;  ///< the NC's program figures at start (the per-sample ones stay with the NC)
   LayerQuality quality_;
+  std::unique_ptr<ThermalLayer> thermal_;  ///< optional (thermal.enabled)
+  std::uint64_t thermal_samples_ = 0;      ///< samples given to it
 };
 }  // namespace scanhead

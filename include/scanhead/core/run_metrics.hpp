@@ -8,6 +8,7 @@
 
 #include "scanhead/core/chunk.hpp"
 #include "scanhead/core/layer_quality.hpp"
+#include "scanhead/core/thermal_layer.hpp"
 #include "scanhead/core/nc_program.hpp"
 #include "scanhead/core/scan_job.hpp"
 
@@ -63,6 +64,11 @@ struct RunMetrics
   std::uint64_t map_tiles_spilled = 0;    ///< of which written to the spill file at least once
   std::size_t peak_memory_bytes = 0;      ///< the energy stage's data at its largest: resident tiles and directory, path, index, grids, track [bytes]
   LayerQualityReport quality;             ///< contour errors, fill rate, angle errors, speed, layer time
+  bool thermal_enabled = false;           ///< the thermal view ran (thermal.enabled)
+  std::uint64_t thermal_samples = 0;      ///< samples of its time window
+  MeltPoolStats thermal_melt_pool;        ///< melt-pool length, width and peak temperature
+  ThermalEnergy thermal_energy;           ///< its energy books [J]
+  double thermal_melted_area_m2 = 0.0;    ///< cells melted at least once [m²]
   std::vector<CornerReport> corners;
 };
 

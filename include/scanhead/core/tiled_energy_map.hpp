@@ -84,8 +84,10 @@ private:
     std::int64_t file_offset = -1;  ///< where the tile lives in the spill file (-1: never spilled)
     std::uint64_t last_use = 0;
     float* data = nullptr;        ///< resident buffer, or nullptr when spilled
+    bool dirty = true;            ///< changed since it was last written to the file
   };
   float* tileForWrite(std::int64_t tile) const;
+  float* residentTile(std::int64_t tile) const;
   const float* tileForRead(std::int64_t tile, float* scratch) const;
   void makeRoom() const;
   void spill(Slot& slot) const;
