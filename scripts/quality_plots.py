@@ -36,7 +36,8 @@ def plot_contour_distributions(ax, runs, definition):
 
 
 def plot_histogram(ax, runs, path, xlabel, title):
-    """A metrics.yaml histogram block (edges, counts) for each run."""
+    """A metrics.yaml histogram block (edges, counts) for each run, zoomed on the occupied bins."""
+    lo_hi = [np.inf, -np.inf]
     for (label, metrics), colour in zip(runs, ("tab:red", "tab:blue")):
         block = metrics
         for key in path:
@@ -45,8 +46,14 @@ def plot_histogram(ax, runs, path, xlabel, title):
             continue
         edges = np.asarray(block["edges"], dtype=float)
         counts = np.asarray(block["counts"], dtype=float)
+        occupied = np.nonzero(counts)[0]
+        if occupied.size:
+            lo_hi = [min(lo_hi[0], edges[occupied[0]]), max(lo_hi[1], edges[occupied[-1] + 1])]
         ax.stairs(100.0 * counts / max(block["count"], 1), edges, color=colour, label=f"{label} "
                   f"(under {block['underflow']}, over {block['overflow']})")
+    if lo_hi[0] < lo_hi[1]:
+        pad = 0.05 * (lo_hi[1] - lo_hi[0])
+        ax.set_xlim(lo_hi[0] - pad, lo_hi[1] + pad)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("samples [%]")
     ax.set_title(title)
@@ -68,8 +75,9 @@ def quality_figure(plt, runs):
     for label, m in runs:
         q = m.get("contour_error", {}).get("same_instant", {})
         lines.append(f"{label}")
+        fill = m.get("fill_rate")
         lines.append(f"  layer time {m.get('layer_time_s', float('nan')):.4f} s")
-        lines.append(f"  fill rate {100.0 * (m.get('fill_rate') or float('nan')):.2f} %")
+        lines.append(f"  fill rate {100.0 * fill:.2f} %" if isinstance(fill, (int, float)) else "  fill rate -")
         contour = q.get("contour", {})
         if contour.get("points"):
             lines.append("  contours < 10/20/30 um: " + ", ".join(

@@ -144,6 +144,8 @@ void visitSettings(Config& c, F&& f)
   f("energy.crop_regions", c.energy.crop_regions);
   f("energy.contour_max_samples", c.energy.contour_max_samples);
   f("energy.contour_lag_s", c.energy.contour_lag_s);
+  f("energy.same_instant_window_s", c.energy.same_instant_window_s);
+  f("energy.spill_dir", c.energy.spill_dir);
   f("thermal.enabled", c.thermal.enabled);
   f("thermal.start_s", c.thermal.start_s);
   f("thermal.duration_s", c.thermal.duration_s);

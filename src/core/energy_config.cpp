@@ -6,6 +6,7 @@
 #include <string>
 
 #include "scanhead/core/config_check.hpp"
+#include "scanhead/core/map_regions.hpp"
 #include "scanhead/core/errors.hpp"
 
 namespace scanhead
@@ -31,6 +32,14 @@ void EnergyConfig::validate() const
   requireSetting(focus_distance_m > 0.0, "energy.focus_distance_m", "> 0", focus_distance_m);
   requireSetting(wavelength_m > 0.0, "energy.wavelength_m", "> 0", wavelength_m);
   requireSetting(beam_quality_m2 >= 1.0, "energy.beam_quality_m2", ">= 1", beam_quality_m2);
+  // 30-bit point ids of the nearest-path index (contour_error.hpp).
+  requireSetting(contour_max_samples <= (std::size_t(1) << 30), "energy.contour_max_samples", "<= 2^30 = 1073741824",
+                 static_cast<double>(contour_max_samples));
+  requireSetting(std::isfinite(contour_lag_s) && contour_lag_s < 1.0, "energy.contour_lag_s",
+                 "finite and < 1 s (< 0: filter + servo delay)", contour_lag_s);
+  requireSetting(same_instant_window_s >= 0.0 && same_instant_window_s <= 0.01, "energy.same_instant_window_s",
+                 "in [0, 0.01] s", same_instant_window_s);
+  parseMapRegions(crop_regions);  // a bad crop is reported before the run, not after it
 }
 
 double EnergyConfig::rayleighLength() const

@@ -56,11 +56,7 @@ void axpyRow(float* y, const float* x, float c, int n)
   }
 }
 
-// ---------------------------------------------------------------------------------------------
-// EnergyMap
-
-EnergyMap::EnergyMap(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m)
-  : origin_(min_corner), pixel_(pixel_m), width_(0), height_(0)
+void checkMapGeometry(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m)
 {
   if (!(pixel_m > 0.0) || !std::isfinite(pixel_m))
   {
@@ -75,6 +71,15 @@ EnergyMap::EnergyMap(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& m
         << min_corner.y() << ") m, max (" << max_corner.x() << ", " << max_corner.y() << ") m)";
     throw InputError(msg.str());
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// EnergyMap
+
+EnergyMap::EnergyMap(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m)
+  : origin_(min_corner), pixel_(pixel_m), width_(0), height_(0)
+{
+  checkMapGeometry(min_corner, max_corner, pixel_m);
   // ceil with a 1e-9 pixel tolerance: a 100 µm box at 1 µm is 100 pixels, not 101 by rounding.
   const double w = std::max(1.0, std::ceil((max_corner.x() - min_corner.x()) / pixel_m - 1e-9));
   const double h = std::max(1.0, std::ceil((max_corner.y() - min_corner.y()) / pixel_m - 1e-9));

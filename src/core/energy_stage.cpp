@@ -213,6 +213,7 @@ RunMetrics EnergyStage::finish()
   }
   m.map_tiles = accumulator_.map().tilesTouched();
   m.map_tiles_spilled = accumulator_.map().tilesSpilled();
+  m.map_spill_file_bytes = accumulator_.map().spillFileBytes();
   m.peak_memory_bytes = accumulator_.map().peakResidentBytes() + m.quality.memory_bytes + track_peak_bytes_;
   return m;
 }

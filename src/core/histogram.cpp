@@ -25,17 +25,6 @@ std::string yamlNumber(double v)
   return fullPrecisionText(v);
 }
 
-std::string yamlQuoted(const std::string& s)
-{
-  std::string out = "\"";
-  for (char c : s)
-  {
-    if (c == '"' || c == '\\')
-      out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
 }  // namespace
 
 Histogram::Histogram(double lo, double hi, int bins)

@@ -69,26 +69,41 @@ void LayerQuality::addTo(ContourErrorSplit& split, Kind kind, double error_m)
   }
 }
 
+const Eigen::Vector2d& LayerQuality::held(std::uint64_t index) const
+{
+  return ring_[static_cast<std::size_t>(index % ring_.size())];
+}
+
 void LayerQuality::sameInstant(std::uint64_t k)
 {
-  // Command k pairs with sample j = k + L, which the ring holds with whichever neighbours arrived.
+  // Command k pairs with the samples j = k + L ± N the ring holds: the nearest of them (the point of
+  // least following error), then the projection on its adjacent segments.
   const Command c = commandAt(k, command_cursor_);
   fill_.addCommanded(c.point, c.kind == Kind::Hatch);
-  const std::uint64_t j = k + lag_samples_;
-  double best = INFINITY;
-  for (int a = 0; a + 1 < ring_size_; ++a)
+  const std::uint64_t centre = k + lag_samples_;
+  const std::uint64_t lo = std::max(centre >= window_samples_ ? centre - window_samples_ : 0, ring_first_);
+  const std::uint64_t hi = std::min(centre + window_samples_, next_index_ - 1);
+  if (!started_ || lo > hi)
   {
-    const int slot_a = (3 - ring_size_ + a);
-    if (ring_index_[slot_a] == j || ring_index_[slot_a + 1] == j)
-      best = std::min(best, pointSegmentDistance(c.point, ring_[slot_a], ring_[slot_a + 1]));
-  }
-  if (ring_size_ == 1 && ring_index_[2] == j)
-    best = (c.point - ring_[2]).norm();  // an isolated sample: the distance to it
-  if (std::isinf(best))
-  {
-    ++report_.unmatched_points;  // the ring lost j at a gap
+    ++report_.unmatched_points;  // no sample of its window arrived (stream gap)
     return;
   }
+  std::uint64_t nearest = lo;
+  double nearest_d2 = INFINITY;
+  for (std::uint64_t j = lo; j <= hi; ++j)
+  {
+    const double d2 = (held(j) - c.point).squaredNorm();
+    if (d2 < nearest_d2)
+    {
+      nearest_d2 = d2;
+      nearest = j;
+    }
+  }
+  double best = std::sqrt(nearest_d2);  // an isolated sample: the distance to it
+  if (nearest > ring_first_)
+    best = std::min(best, pointSegmentDistance(c.point, held(nearest - 1), held(nearest)));
+  if (nearest + 1 < next_index_)
+    best = std::min(best, pointSegmentDistance(c.point, held(nearest), held(nearest + 1)));
   addTo(report_.same_instant, c.kind, best);
 }
 
@@ -105,6 +120,9 @@ void LayerQuality::process(const SpotChunk& chunk)
   {
     period_s_ = chunk.period_s;
     lag_samples_ = static_cast<std::uint64_t>(std::llround(std::max(0.0, report_.lag_s) / period_s_));
+    window_samples_ = static_cast<std::uint64_t>(std::llround(config_.same_instant_window_s / period_s_));
+    report_.window_s = static_cast<double>(window_samples_) * period_s_;
+    ring_.assign(static_cast<std::size_t>(2 * window_samples_ + 3), Eigen::Vector2d::Zero());
     // Commanded points: k·Ts < layer time (the same rounding as the NC's sample times).
     program_samples_ = static_cast<std::uint64_t>(std::ceil(report_.layer_time_s / period_s_ - 1e-9));
     report_.commanded_points = program_samples_;
@@ -117,15 +135,13 @@ void LayerQuality::process(const SpotChunk& chunk)
     const SpotSample& s = chunk.samples[n];
     if (started_ && m > next_index_)
     {
-      // Gap: the commands paired with the last sample use its one segment; those paired with the
-      // missing samples are unmatched.
-      while (next_command_ < program_samples_ && next_command_ + lag_samples_ < next_index_)
+      // Gap: the commands whose window meets the samples before it use those; those whose window
+      // lies in the gap are unmatched; the others wait for the samples after it.
+      while (next_command_ < program_samples_ && next_command_ + lag_samples_ <= next_index_ - 1 + window_samples_)
         sameInstant(next_command_++);
-      const std::uint64_t resume = m > lag_samples_ ? m - lag_samples_ : 0;
-      while (next_command_ < std::min(resume, program_samples_))
+      while (next_command_ < program_samples_ && next_command_ + lag_samples_ + window_samples_ < m)
         unmatched(next_command_++);
-      next_command_ = std::max(next_command_, resume);
-      ring_size_ = 0;
+      ring_first_ = m;
       fill_.breakActual();
       if (keep_path_)
         path_.breakPath();
@@ -140,27 +156,23 @@ void LayerQuality::process(const SpotChunk& chunk)
     const Command c = commandAt(m >= lag_samples_ ? m - lag_samples_ : program_samples_, lagged_cursor_);
     const bool marking = s.power_w > 0.0 && (c.kind == Kind::Hatch || c.kind == Kind::Contour);
     fill_.addActual(s.actual, s.power_w > 0.0 && c.kind == Kind::Hatch);
-    if (marking && c.speed_mps > 0.0 && ring_size_ > 0)
+    if (marking && c.speed_mps > 0.0 && started_ && m > ring_first_)
     {
-      const double ratio = (s.actual - ring_[2]).norm() / period_s_ / c.speed_mps;
+      const double ratio = (s.actual - held(m - 1)).norm() / period_s_ / c.speed_mps;
       report_.mark_speed_ratio.add(ratio);
       speed_weighted_ += ratio;
       speed_time_ += 1.0;
     }
     if (keep_path_)
       path_.add(s.actual);
-    // Shift the ring: slot 2 is the newest.
-    ring_index_[0] = ring_index_[1];
-    ring_[0] = ring_[1];
-    ring_index_[1] = ring_index_[2];
-    ring_[1] = ring_[2];
-    ring_index_[2] = m;
-    ring_[2] = s.actual;
-    ring_size_ = std::min(ring_size_ + 1, 3);
+    if (!started_)
+      ring_first_ = m;
+    ring_[static_cast<std::size_t>(m % ring_.size())] = s.actual;
     started_ = true;
     next_index_ = m + 1;
-    // Command k is complete once sample k + L + 1 is in (both segments around j = k + L).
-    while (next_command_ < program_samples_ && next_command_ + lag_samples_ + 1 <= m)
+    ring_first_ = std::max(ring_first_, next_index_ > ring_.size() ? next_index_ - ring_.size() : 0);
+    // Command k is complete once sample k + L + N + 1 is in (its window and the segment after it).
+    while (next_command_ < program_samples_ && next_command_ + lag_samples_ + window_samples_ + 1 <= m)
       sameInstant(next_command_++);
   }
 }
@@ -170,11 +182,7 @@ LayerQualityReport LayerQuality::finish()
   // The last commands pair with the last sample (one segment) or with none (unmatched).
   while (next_command_ < program_samples_)
   {
-    if (started_ && next_command_ + lag_samples_ < next_index_)
-      sameInstant(next_command_);
-    else
-      unmatched(next_command_);
-    ++next_command_;
+    sameInstant(next_command_++);
   }
   std::size_t index_bytes = 0;
   if (keep_path_ && !path_.empty())
@@ -196,8 +204,9 @@ LayerQualityReport LayerQuality::finish()
   report_.fill_cells_reached = fill_.cellsReached();
   report_.fill_rate = fill_.fillRate();
   report_.fill_points_outside = fill_.pointsOutside();
-  report_.mark_speed_mean_ratio = speed_time_ > 0.0 ? speed_weighted_ / speed_time_ : 0.0;
-  report_.memory_bytes = path_.memoryBytes() + index_bytes + fill_.memoryBytes();
+  report_.mark_speed_mean_ratio = speed_time_ > 0.0 ? speed_weighted_ / speed_time_ : NAN;
+  report_.memory_bytes = path_.memoryBytes() + index_bytes + fill_.memoryBytes() +
+                         timeline_.segments().capacity() * sizeof(PathSegment);
   return report_;
 }
 }  // namespace scanhead

@@ -75,7 +75,7 @@ std::string qualityYaml(const LayerQualityReport& q)
   out += "  x:\n" + histogramYaml(q.angle_error_x, "    ", 1e6, "urad");
   out += "  y:\n" + histogramYaml(q.angle_error_y, "    ", 1e6, "urad");
   out += "speed_profile:  # actual speed / programmed speed, laser-on mark samples\n";
-  out += "  mean_ratio: " + fullPrecisionText(q.mark_speed_mean_ratio) + "\n";
+  out += "  mean_ratio: " + number(q.mark_speed_mean_ratio) + "\n";
   out += "  share_below_90pct: " + number(q.mark_speed_ratio.fractionBelow(0.9)) + "\n";
   out += "  ratio:\n" + histogramYaml(q.mark_speed_ratio, "    ", 1.0, "1");
   return out;
@@ -87,15 +87,16 @@ std::string thermalYaml(const RunMetrics& m)
     return "thermal: null  # off (thermal.enabled)\n";
   const MeltPoolStats& p = m.thermal_melt_pool;
   const ThermalEnergy& e = m.thermal_energy;
+  auto steady = [&](double v) { return p.steady_steps > 0 ? fullPrecisionText(v) : std::string(".nan"); };
   std::string out = "thermal:  # PATH 2D layer model on the window thermal.start_s + duration_s\n";
   out += "  samples: " + std::to_string(m.thermal_samples) + "\n";
   out += "  steps: " + std::to_string(p.steps) + "\n";
   out += "  steady_steps: " + std::to_string(p.steady_steps) + "  # laser on for longer than thermal.settle_time_s\n";
-  out += "  melt_pool_length_m: {steady_mean: " + fullPrecisionText(p.steady_length_mean_m) +
-         ", steady_std: " + fullPrecisionText(p.steady_length_std_m) + ", max: " + fullPrecisionText(p.max_length_m) + "}\n";
-  out += "  melt_pool_width_m: {steady_mean: " + fullPrecisionText(p.steady_width_mean_m) +
-         ", steady_std: " + fullPrecisionText(p.steady_width_std_m) + ", max: " + fullPrecisionText(p.max_width_m) + "}\n";
-  out += "  peak_rise_k: {steady_mean: " + fullPrecisionText(p.steady_peak_mean_k) + ", max: " + fullPrecisionText(p.max_peak_k) + "}\n";
+  out += "  melt_pool_length_m: {steady_mean: " + steady(p.steady_length_mean_m) +
+         ", steady_std: " + steady(p.steady_length_std_m) + ", max: " + fullPrecisionText(p.max_length_m) + "}\n";
+  out += "  melt_pool_width_m: {steady_mean: " + steady(p.steady_width_mean_m) +
+         ", steady_std: " + steady(p.steady_width_std_m) + ", max: " + fullPrecisionText(p.max_width_m) + "}\n";
+  out += "  peak_rise_k: {steady_mean: " + steady(p.steady_peak_mean_k) + ", max: " + fullPrecisionText(p.max_peak_k) + "}\n";
   out += "  melted_area_m2: " + fullPrecisionText(m.thermal_melted_area_m2) + "\n";
   out += "  energy_j: {absorbed: " + fullPrecisionText(e.absorbed_j) + ", stored: " + fullPrecisionText(e.stored_j) +
          ", lost: " + fullPrecisionText(e.lost_j) + ", outside_window: " + fullPrecisionText(e.outside_j) +
@@ -125,7 +126,8 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "layer_time_s: " << fullPrecisionText(m.quality.layer_time_s) << "  # the NC program, holds included\n";
   out << "peak_memory_bytes: " << m.peak_memory_bytes
       << "  # the energy stage's data at its largest (tiles, path, index, grids, track)\n";
-  out << "energy_map: {tiles: " << m.map_tiles << ", tiles_spilled: " << m.map_tiles_spilled << "}\n";
+  out << "energy_map: {tiles: " << m.map_tiles << ", tiles_spilled: " << m.map_tiles_spilled
+      << ", spill_file_bytes: " << m.map_spill_file_bytes << "}\n";
   out << "nc: {capped_polylines: " << m.nc_program.capped_polylines << ", delay_holds: " << m.nc_program.delay_holds
       << ", polygon_holds: " << m.nc_program.polygon_holds << ", skywritten_corners: " << m.nc_program.skywritten_corners
       << ", added_time_s: " << fullPrecisionText(m.nc_program.added_time_s)
@@ -210,7 +212,7 @@ std::string metricsTable(const RunMetrics& m)
                   100.0 * s.shareUnder(20e-6), 100.0 * s.shareUnder(30e-6), s.max() * 1e6);
     out += line;
   };
-  out += "contour error, marks (contours):\n";
+  out += "contour error of the marked points (and of the contours alone):\n";
   shares("same instant", q.same_instant.mark);
   if (q.same_instant.contour.count() > 0)
     shares("same instant, contours", q.same_instant.contour);

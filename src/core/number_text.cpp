@@ -36,4 +36,16 @@ std::string fullPrecisionText(double value)
   std::snprintf(buffer, sizeof buffer, "%.17g", value);
   return buffer;
 }
+
+std::string yamlQuoted(const std::string& text)
+{
+  std::string out = "\"";
+  for (char c : text)
+  {
+    if (c == '"' || c == '\\')
+      out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
 }  // namespace scanhead

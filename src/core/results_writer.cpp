@@ -79,10 +79,17 @@ void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, 
 
 bool runPythonScript(const std::string& script, const std::vector<std::string>& arguments)
 {
+  // Each word single-quoted, its own quotes as '\'' (labels and paths come from users).
+  auto quoted = [](const std::string& word) {
+    std::string out = "'";
+    for (char c : word)
+      out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+  };
   const std::string path = resolvePackagePath(script);
-  std::string command = "/usr/bin/python3 '" + path + "'";
+  std::string command = "/usr/bin/python3 " + quoted(path);
   for (const std::string& argument : arguments)
-    command += " '" + argument + "'";
+    command += " " + quoted(argument);
   if (std::system((command + " 2>&1").c_str()) == 0)
     return true;
   std::fprintf(stderr, "scanhead: plots skipped (%s failed; is python3-matplotlib installed?)\n", path.c_str());

@@ -3,8 +3,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <sstream>
 
 #include "scanhead/core/errors.hpp"
@@ -50,16 +52,19 @@ const Figure kFigures[] = {
   { "dropped_samples", "dropped samples", "samples", 1.0, true },
 };
 
+/// metrics.yaml up to its corner list: a whole layer has ~1e5 corners (40 MB) that no figure here needs.
 YAML::Node load(const std::string& path)
 {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw InputError(path + ": cannot read (give a results folder or its metrics.yaml)");
+  std::string head, line;
+  while (std::getline(in, line) && line.rfind("corners:", 0) != 0)
+    head += line + "\n";
   YAML::Node root;
   try
   {
-    root = YAML::LoadFile(path);
-  }
-  catch (const YAML::BadFile&)
-  {
-    throw InputError(path + ": cannot read (give a results folder or its metrics.yaml)");
+    root = YAML::Load(head);
   }
   catch (const YAML::Exception& e)
   {
@@ -70,19 +75,26 @@ YAML::Node load(const std::string& path)
   return root;
 }
 
+/// The node at parts[i…] below \p node (recursive: assigning a yaml-cpp Node would rewrite the tree).
+YAML::Node child(const YAML::Node& node, const std::vector<std::string>& parts, std::size_t i)
+{
+  if (i == parts.size())
+    return node;
+  if (!node.IsMap() || !node[parts[i]])
+    return YAML::Node();
+  return child(node[parts[i]], parts, i + 1);
+}
+
 /// The number at a dotted key; NaN where it is missing, null or not a number.
 double lookup(const YAML::Node& root, const std::string& key)
 {
-  YAML::Node node = YAML::Clone(root);
-  std::stringstream parts(key);
+  std::vector<std::string> parts;
+  std::stringstream dotted(key);
   std::string part;
-  while (std::getline(parts, part, '.'))
-  {
-    if (!node.IsMap() || !node[part])
-      return NAN;
-    node = node[part];
-  }
-  if (!node.IsScalar())
+  while (std::getline(dotted, part, '.'))
+    parts.push_back(part);
+  const YAML::Node node = child(root, parts, 0);
+  if (!node.IsDefined() || !node.IsScalar())
     return NAN;
   double value = NAN;
   const std::string text = node.Scalar();
@@ -105,6 +117,16 @@ std::string cell(double v, const std::string& unit)
   else
     std::snprintf(text, sizeof text, "%.4g", v);
   return text;
+}
+
+/// "A", "B" or "=" by the row's sense; "" where a value is missing.
+const char* better(const ComparisonRow& r)
+{
+  if (std::isnan(r.a) || std::isnan(r.b))
+    return "";
+  if (r.a == r.b)
+    return "=";
+  return (r.b < r.a) == r.lower_is_better ? "B" : "A";
 }
 
 std::string change(const ComparisonRow& r)
@@ -144,15 +166,16 @@ RunComparison compareMetricsFiles(const std::string& metrics_a, const std::strin
 
 std::string comparisonTable(const RunComparison& c)
 {
-  char line[256];
+  const int width = static_cast<int>(std::max<std::size_t>(12, std::max(c.name_a.size(), c.name_b.size())));
+  char line[512];
   std::string out;
-  std::snprintf(line, sizeof line, "%-34s %-8s %16s %16s %12s\n", "figure", "unit", c.name_a.substr(0, 16).c_str(),
-                c.name_b.substr(0, 16).c_str(), "B - A");
+  std::snprintf(line, sizeof line, "%-34s %-8s %*s %*s %12s  %s\n", "figure", "unit", width, c.name_a.c_str(), width,
+                c.name_b.c_str(), "B - A", "better");
   out += line;
   for (const ComparisonRow& r : c.rows)
   {
-    std::snprintf(line, sizeof line, "%-34s %-8s %16s %16s %12s\n", r.label.c_str(), r.unit.c_str(),
-                  cell(r.a, r.unit).c_str(), cell(r.b, r.unit).c_str(), change(r).c_str());
+    std::snprintf(line, sizeof line, "%-34s %-8s %*s %*s %12s  %s\n", r.label.c_str(), r.unit.c_str(), width,
+                  cell(r.a, r.unit).c_str(), width, cell(r.b, r.unit).c_str(), change(r).c_str(), better(r));
     out += line;
   }
   return out;
@@ -161,19 +184,19 @@ std::string comparisonTable(const RunComparison& c)
 std::string comparisonYaml(const RunComparison& c)
 {
   auto number = [](double v) { return std::isnan(v) ? std::string(".nan") : fullPrecisionText(v); };
-  std::string out = "runs: [\"" + c.name_a + "\", \"" + c.name_b + "\"]\nrows:\n";
+  std::string out = "runs: [" + yamlQuoted(c.name_a) + ", " + yamlQuoted(c.name_b) + "]\nrows:\n";
   for (const ComparisonRow& r : c.rows)
-    out += "  - {key: " + r.key + ", label: \"" + r.label + "\", unit: \"" + r.unit + "\", a: " + number(r.a) +
+    out += "  - {key: " + r.key + ", label: " + yamlQuoted(r.label) + ", unit: " + yamlQuoted(r.unit) + ", a: " + number(r.a) +
            ", b: " + number(r.b) + ", lower_is_better: " + (r.lower_is_better ? "true" : "false") + "}\n";
   return out;
 }
 
 std::string comparisonMarkdown(const RunComparison& c)
 {
-  std::string out = "| figure | unit | " + c.name_a + " | " + c.name_b + " | B − A |\n|---|---|---|---|---|\n";
+  std::string out = "| figure | unit | " + c.name_a + " | " + c.name_b + " | B − A | better |\n|---|---|---|---|---|---|\n";
   for (const ComparisonRow& r : c.rows)
     out += "| " + r.label + " | " + r.unit + " | " + cell(r.a, r.unit) + " | " + cell(r.b, r.unit) + " | " +
-           change(r) + " |\n";
+           change(r) + " | " + better(r) + " |\n";
   return out;
 }
 }  // namespace scanhead

@@ -1,4 +1,5 @@
 /// \file spot_footprint.cpp
+/// \brief The spot's quadratic form on the plane from the beam direction and the defocus.
 #include "scanhead/core/spot_footprint.hpp"
 
 #include <cmath>

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <sstream>
 
@@ -26,30 +27,18 @@ std::int64_t pixelsAcross(double extent_m, double pixel_m)
   return static_cast<std::int64_t>(std::max(1.0, std::ceil(extent_m / pixel_m - 1e-9)));
 }
 
-std::string ioError(const char* what)
+std::string ioError(const std::string& what, const std::string& dir)
 {
-  return std::string("energy map: cannot ") + what + " the tile spill file (" + std::strerror(errno) +
-         "): check the free space of the temporary directory (TMPDIR) or raise energy.tile_cache_bytes";
+  return "energy map: cannot " + what + " the tile spill file in " + dir + " (" + std::strerror(errno) +
+         "): check energy.spill_dir (or TMPDIR) and its free space, or raise energy.tile_cache_bytes";
 }
 }  // namespace
 
 TiledEnergyMap::TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m,
-                               std::size_t cache_bytes)
-  : origin_(min_corner), pixel_(pixel_m)
+                               std::size_t cache_bytes, std::string spill_dir)
+  : origin_(min_corner), pixel_(pixel_m), spill_dir_(std::move(spill_dir))
 {
-  if (!(pixel_m > 0.0) || !std::isfinite(pixel_m))
-  {
-    std::ostringstream msg;
-    msg << "energy.pixel_m must be > 0 (got " << pixel_m << ")";
-    throw ConfigError(msg.str());
-  }
-  if (!min_corner.allFinite() || !max_corner.allFinite() || (max_corner.array() < min_corner.array()).any())
-  {
-    std::ostringstream msg;
-    msg << "energy map bounds must be finite with max >= min (got min (" << min_corner.x() << ", "
-        << min_corner.y() << ") m, max (" << max_corner.x() << ", " << max_corner.y() << ") m)";
-    throw InputError(msg.str());
-  }
+  checkMapGeometry(min_corner, max_corner, pixel_m);
   const double extent = std::max(max_corner.x() - min_corner.x(), max_corner.y() - min_corner.y());
   if (extent / pixel_m > 1e9)
   {
@@ -75,8 +64,8 @@ TiledEnergyMap::TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::V
 
 TiledEnergyMap::~TiledEnergyMap()
 {
-  if (spill_file_ != nullptr)
-    std::fclose(spill_file_);
+  if (spill_fd_ >= 0)
+    ::close(spill_fd_);
 }
 
 TiledEnergyMap::TiledEnergyMap(TiledEnergyMap&& other) noexcept
@@ -88,8 +77,8 @@ TiledEnergyMap& TiledEnergyMap::operator=(TiledEnergyMap&& other) noexcept
 {
   if (this != &other)
   {
-    if (spill_file_ != nullptr)
-      std::fclose(spill_file_);
+    if (spill_fd_ >= 0)
+      ::close(spill_fd_);
     origin_ = other.origin_;
     pixel_ = other.pixel_;
     width_ = other.width_;
@@ -105,20 +94,43 @@ TiledEnergyMap& TiledEnergyMap::operator=(TiledEnergyMap&& other) noexcept
     peak_resident_ = other.peak_resident_;
     spilled_tiles_ = other.spilled_tiles_;
     clock_ = other.clock_;
-    spill_file_ = other.spill_file_;
+    spill_dir_ = std::move(other.spill_dir_);
+    spill_fd_ = other.spill_fd_;
     spill_end_ = other.spill_end_;
-    other.spill_file_ = nullptr;
+    summary_valid_ = other.summary_valid_;
+    total_ = other.total_;
+    peak_ = other.peak_;
+    // The source is left an empty map of no pixels (safe to read, nothing to free twice).
+    other.spill_fd_ = -1;
+    other.width_ = other.height_ = other.tiles_x_ = other.tiles_y_ = 0;
+    other.slot_of_tile_.clear();
+    other.slots_.clear();
+    other.free_buffers_.clear();
+    other.resident_ = other.spilled_tiles_ = 0;
+    other.spill_end_ = 0;
+    other.summary_valid_ = false;
+    hot_tile_ = -1;
+    other.hot_tile_ = -1;
   }
   return *this;
 }
 
+std::string TiledEnergyMap::spillDir() const
+{
+  const char* tmpdir = std::getenv("TMPDIR");
+  return !spill_dir_.empty() ? spill_dir_ : tmpdir != nullptr && *tmpdir != '\0' ? tmpdir : "/tmp";
+}
+
 void TiledEnergyMap::spill(Slot& slot) const
 {
-  if (spill_file_ == nullptr)
+  if (spill_fd_ < 0)
   {
-    spill_file_ = std::tmpfile();
-    if (spill_file_ == nullptr)
-      throw InputError(ioError("create"));
+    const std::string dir = spillDir();
+    std::string path = dir + "/scanhead_tiles_XXXXXX";
+    spill_fd_ = ::mkstemp(path.data());
+    if (spill_fd_ < 0)
+      throw InputError(ioError("create", dir));
+    ::unlink(path.c_str());  // the space is freed when the file is closed, even by a crash
   }
   if (slot.file_offset < 0)
   {
@@ -128,9 +140,9 @@ void TiledEnergyMap::spill(Slot& slot) const
   }
   if (slot.dirty)  // a tile only read since it came back is already in the file
   {
-    const ssize_t n = ::pwrite(fileno(spill_file_), slot.data, kTileBytes, slot.file_offset);
+    const ssize_t n = ::pwrite(spill_fd_, slot.data, kTileBytes, slot.file_offset);
     if (n != static_cast<ssize_t>(kTileBytes))
-      throw InputError(ioError("write"));
+      throw InputError(ioError("write", spillDir()));
     slot.dirty = false;
   }
   free_buffers_.push_back(slot.data);
@@ -144,14 +156,15 @@ void TiledEnergyMap::load(Slot& slot) const
   slot.data = free_buffers_.back();
   free_buffers_.pop_back();
   ++resident_;
-  const ssize_t n = ::pread(fileno(spill_file_), slot.data, kTileBytes, slot.file_offset);
+  const ssize_t n = ::pread(spill_fd_, slot.data, kTileBytes, slot.file_offset);
   if (n != static_cast<ssize_t>(kTileBytes))
-    throw InputError(ioError("read"));
+    throw InputError(ioError("read", spillDir()));
   slot.dirty = false;
 }
 
 void TiledEnergyMap::makeRoom() const
 {
+  hot_tile_ = -1;  // a spill or a new buffer may move the hot tile
   if (resident_ >= max_resident_)
   {
     // Spill the least recently used eighth at once: the sort is paid every max/8 misses, not on each.
@@ -177,12 +190,15 @@ void TiledEnergyMap::makeRoom() const
 float* TiledEnergyMap::tileForWrite(std::int64_t tile) const
 {
   float* data = residentTile(tile);
-  slots_[static_cast<std::size_t>(slot_of_tile_[static_cast<std::size_t>(tile)])].dirty = true;
+  summary_valid_ = false;
+  slots_[hot_slot_].dirty = true;
   return data;
 }
 
 float* TiledEnergyMap::residentTile(std::int64_t tile) const
 {
+  if (tile == hot_tile_)
+    return hot_data_;
   std::int32_t& index = slot_of_tile_[static_cast<std::size_t>(tile)];
   if (index < 0)
   {
@@ -200,6 +216,9 @@ float* TiledEnergyMap::residentTile(std::int64_t tile) const
   slot.last_use = ++clock_;
   if (slot.data == nullptr)
     load(slot);
+  hot_tile_ = tile;
+  hot_slot_ = static_cast<std::size_t>(index);
+  hot_data_ = slot.data;
   return slot.data;
 }
 
@@ -211,9 +230,9 @@ const float* TiledEnergyMap::tileForRead(std::int64_t tile, float* scratch) cons
   const Slot& slot = slots_[static_cast<std::size_t>(index)];
   if (slot.data != nullptr)
     return slot.data;
-  const ssize_t n = ::pread(fileno(spill_file_), scratch, kTileBytes, slot.file_offset);
+  const ssize_t n = ::pread(spill_fd_, scratch, kTileBytes, slot.file_offset);
   if (n != static_cast<ssize_t>(kTileBytes))
-    throw InputError(ioError("read"));
+    throw InputError(ioError("read", spillDir()));
   return scratch;
 }
 
@@ -256,33 +275,44 @@ void TiledEnergyMap::forEachTile(const std::function<void(std::int64_t, std::int
   }
 }
 
-double TiledEnergyMap::totalEnergy() const
+void TiledEnergyMap::summarise() const
 {
+  // One pass over every tile (a whole layer's spill file is read once, not once per figure).
   double total = 0.0;
+  float peak = 0.0f;
   forEachTile([&](std::int64_t, std::int64_t, const float* data) {
-    // Eight partial sums in a fixed order: deterministic, and the adds overlap.
-    double lanes[8] = {};
+    // Eight partial sums and maxima in a fixed order: deterministic, and the adds overlap.
+    double sums[8] = {};
+    float maxima[8] = {};
     for (std::int64_t i = 0; i < kTilePixels; i += 8)
       for (int k = 0; k < 8; ++k)
-        lanes[k] += data[i + k];
-    for (const double lane : lanes)
-      total += lane;
+      {
+        sums[k] += data[i + k];
+        maxima[k] = data[i + k] > maxima[k] ? data[i + k] : maxima[k];
+      }
+    for (int k = 0; k < 8; ++k)
+    {
+      total += sums[k];
+      peak = std::max(peak, maxima[k]);
+    }
   });
-  return total * pixel_ * pixel_;
+  total_ = total * pixel_ * pixel_;
+  peak_ = peak;
+  summary_valid_ = true;
+}
+
+double TiledEnergyMap::totalEnergy() const
+{
+  if (!summary_valid_)
+    summarise();
+  return total_;
 }
 
 double TiledEnergyMap::peak() const
 {
-  float m = 0.0f;
-  forEachTile([&](std::int64_t, std::int64_t, const float* data) {
-    float lanes[8] = {};
-    for (std::int64_t i = 0; i < kTilePixels; i += 8)
-      for (int k = 0; k < 8; ++k)
-        lanes[k] = data[i + k] > lanes[k] ? data[i + k] : lanes[k];
-    for (const float lane : lanes)
-      m = std::max(m, lane);
-  });
-  return m;
+  if (!summary_valid_)
+    summarise();
+  return peak_;
 }
 
 void TiledEnergyMap::clear()
@@ -292,22 +322,30 @@ void TiledEnergyMap::clear()
     if (s.data != nullptr)
       free_buffers_.push_back(s.data);
   slots_.clear();
+  hot_tile_ = -1;
   resident_ = 0;
   spilled_tiles_ = 0;
   spill_end_ = 0;
+  summary_valid_ = false;
 }
 
-EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int64_t w, std::int64_t h) const
+EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int64_t w, std::int64_t h,
+                                 int factor) const
 {
-  const std::int64_t c0 = std::clamp<std::int64_t>(col0, 0, width_ - 1);
-  const std::int64_t r0 = std::clamp<std::int64_t>(row0, 0, height_ - 1);
-  const std::int64_t c1 = std::clamp<std::int64_t>(col0 + w, c0 + 1, width_);
-  const std::int64_t r1 = std::clamp<std::int64_t>(row0 + h, r0 + 1, height_);
+  const std::int64_t c0 = std::clamp<std::int64_t>(col0, 0, std::max<std::int64_t>(0, width_ - 1));
+  const std::int64_t r0 = std::clamp<std::int64_t>(row0, 0, std::max<std::int64_t>(0, height_ - 1));
+  const std::int64_t c1 = std::clamp<std::int64_t>(col0 + w, c0 + 1, std::max<std::int64_t>(c0 + 1, width_));
+  const std::int64_t r1 = std::clamp<std::int64_t>(row0 + h, r0 + 1, std::max<std::int64_t>(r0 + 1, height_));
+  const std::int64_t f = std::max(1, factor);
+  const std::int64_t out_w = (c1 - c0 + f - 1) / f, out_h = (r1 - r0 + f - 1) / f;
+  const double big = pixel_ * static_cast<double>(f);
   const Eigen::Vector2d lo = origin_ + pixel_ * Eigen::Vector2d(static_cast<double>(c0), static_cast<double>(r0));
-  EnergyMap out(lo, lo + pixel_ * Eigen::Vector2d(static_cast<double>(c1 - c0), static_cast<double>(r1 - r0)), pixel_);
+  EnergyMap out(lo, lo + big * Eigen::Vector2d(static_cast<double>(out_w), static_cast<double>(out_h)), big);
+  // Sums in double per output pixel, tile by tile in tile order (deterministic), then the block mean.
+  std::vector<double> sum(static_cast<std::size_t>(out.width()) * static_cast<std::size_t>(out.height()), 0.0);
   std::vector<float> scratch(static_cast<std::size_t>(kTilePixels));
-  for (std::int64_t tj = r0 / kTileSide; tj <= (r1 - 1) / kTileSide; ++tj)
-    for (std::int64_t ti = c0 / kTileSide; ti <= (c1 - 1) / kTileSide; ++ti)
+  for (std::int64_t tj = r0 / kTileSide; tj <= (r1 - 1) / kTileSide && tj < tiles_y_; ++tj)
+    for (std::int64_t ti = c0 / kTileSide; ti <= (c1 - 1) / kTileSide && ti < tiles_x_; ++ti)
     {
       const float* data = tileForRead(tj * tiles_x_ + ti, scratch.data());
       if (data == nullptr)
@@ -315,48 +353,24 @@ EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int6
       const std::int64_t rr0 = std::max(r0, tj * kTileSide), rr1 = std::min(r1, (tj + 1) * kTileSide);
       const std::int64_t cc0 = std::max(c0, ti * kTileSide), cc1 = std::min(c1, (ti + 1) * kTileSide);
       for (std::int64_t r = rr0; r < rr1; ++r)
-        std::copy(data + (r - tj * kTileSide) * kTileSide + (cc0 - ti * kTileSide),
-                  data + (r - tj * kTileSide) * kTileSide + (cc1 - ti * kTileSide),
-                  out.row(static_cast<int>(r - r0)) + (cc0 - c0));
-    }
-  return out;
-}
-
-int TiledEnergyMap::overviewFactor(int max_side) const
-{
-  const std::int64_t side = std::max(width_, height_);
-  return static_cast<int>(std::max<std::int64_t>(1, (side + std::max(1, max_side) - 1) / std::max(1, max_side)));
-}
-
-EnergyMap TiledEnergyMap::overview(int factor) const
-{
-  const std::int64_t f = std::max(1, factor);
-  const std::int64_t w = (width_ + f - 1) / f, h = (height_ + f - 1) / f;
-  const double big = pixel_ * static_cast<double>(f);
-  EnergyMap out(origin_, origin_ + big * Eigen::Vector2d(static_cast<double>(w), static_cast<double>(h)), big);
-  // Sums in double per output pixel, in tile order (deterministic), then the block mean.
-  std::vector<double> sum(static_cast<std::size_t>(out.width()) * static_cast<std::size_t>(out.height()), 0.0);
-  forEachTile([&](std::int64_t ti, std::int64_t tj, const float* data) {
-    for (std::int64_t r = 0; r < kTileSide; ++r)
-    {
-      const std::int64_t row = tj * kTileSide + r;
-      if (row >= height_)
-        break;
-      double* out_row = sum.data() + static_cast<std::size_t>(row / f) * static_cast<std::size_t>(out.width());
-      for (std::int64_t c = 0; c < kTileSide; ++c)
       {
-        const std::int64_t col = ti * kTileSide + c;
-        if (col >= width_)
-          break;
-        out_row[col / f] += data[r * kTileSide + c];
+        const float* in = data + (r - tj * kTileSide) * kTileSide - ti * kTileSide;
+        double* out_row = sum.data() + static_cast<std::size_t>((r - r0) / f) * static_cast<std::size_t>(out.width());
+        for (std::int64_t c = cc0; c < cc1; ++c)
+          out_row[(c - c0) / f] += in[c];
       }
     }
-  });
   const double inv = 1.0 / static_cast<double>(f * f);
   for (int r = 0; r < out.height(); ++r)
     for (int c = 0; c < out.width(); ++c)
       out.row(r)[c] = static_cast<float>(sum[static_cast<std::size_t>(r) * static_cast<std::size_t>(out.width()) + c] * inv);
   return out;
+}
+
+int TiledEnergyMap::blockFactor(std::int64_t w, std::int64_t h, int max_side)
+{
+  const std::int64_t side = std::max(w, h), m = std::max(1, max_side);
+  return static_cast<int>(std::max<std::int64_t>(1, (side + m - 1) / m));
 }
 
 std::size_t TiledEnergyMap::peakResidentBytes() const

@@ -61,6 +61,8 @@ bool nearAnEnd(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& end
 }
 }  // namespace
 
+namespace
+{
 template <class Map>
 TrackEnergyProfile profileOn(const Map& map, const std::vector<SpotSample>& spots, double exclude_ends_m,
                              const std::vector<Eigen::Vector2d>* track_ends)
@@ -175,6 +177,8 @@ TrackEnergyProfile profileOn(const Map& map, const std::vector<SpotSample>& spot
   }
   return out;
 }
+}  // namespace
+
 TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<SpotSample>& spots,
                                       double exclude_ends_m, const std::vector<Eigen::Vector2d>* track_ends)
 {

@@ -136,16 +136,27 @@ TEST(LayerQuality, ShiftedPathGivesTheShift)
   EXPECT_DOUBLE_EQ(r.layer_time_s, timeline.duration());
 }
 
-// Without the lag compensated, same instant sees the lag as error (lag·v), nearest path does not.
-TEST(LayerQuality, SameInstantNeedsTheLag)
+// A lag the pairing misses: the strict same instant (window 0) sees it as error (20 samples at
+// 1 m/s: 200 µm behind, minus the adjacent 10 µm segment = 190 µm); the search window of ±N
+// samples absorbs up to N samples of it (the least following error); nearest path never sees it.
+TEST(LayerQuality, SameInstantNeedsTheLagOrItsWindow)
 {
   const Job job = squareJob();
   const PathTimeline timeline(job, 4.0);
   const Stream s = delayedStream(timeline, 20, Eigen::Vector2d::Zero());
-  const LayerQualityReport r = run(timeline, job, s, 0.0, 1000);
-  // 20 samples at 1 m/s: 200 µm behind; the adjacent segments are 10 µm long, so ≈ 190 µm.
-  EXPECT_GT(r.same_instant.contour.quantileUpperBound(0.5), 100e-6);
+  EnergyConfig strict;
+  strict.same_instant_window_s = 0.0;
+  const LayerQualityReport r = run(timeline, job, s, 0.0, 1000, strict);
+  EXPECT_NEAR(r.same_instant.contour.quantileUpperBound(0.5), 190e-6, 1e-6);
   EXPECT_LT(r.nearest_path.contour.max(), 1e-8);
+  EXPECT_EQ(r.window_s, 0.0);
+  const LayerQualityReport wide = run(timeline, job, s, 0.0, 1000);  // default ±200 µs = ±20 samples
+  EXPECT_DOUBLE_EQ(wide.window_s, 200e-6);
+  EXPECT_LT(wide.same_instant.contour.quantileUpperBound(0.9), 1e-6);
+  EnergyConfig narrow;
+  narrow.same_instant_window_s = 150e-6;  // 15 of the 20 samples: 5 left, 50 µm − 10 µm = 40 µm
+  const LayerQualityReport part = run(timeline, job, s, 0.0, 1000, narrow);
+  EXPECT_NEAR(part.same_instant.contour.quantileUpperBound(0.5), 40e-6, 1e-6);
 }
 
 // Definition (a) against an independent brute force (every actual segment, double precision) on a
@@ -192,18 +203,24 @@ TEST(LayerQuality, NearestPathMatchesBruteForceAndChunking)
   }
 }
 
-// A lost stretch of the stream: its commanded points are counted as unmatched, nothing silently
+// A lost stretch of the stream (100 samples): the commanded points whose whole search window lies
+// in it are counted as unmatched (100 − 2N: N = 20 by default, 0 strict), nothing silently
 // vanishes, and the path is not joined across the gap.
 TEST(LayerQuality, GapsAreCountedNotHidden)
 {
   const Job job = squareJob();
   const PathTimeline timeline(job, 4.0);
   const Stream s = delayedStream(timeline, 10, Eigen::Vector2d::Zero());
-  const LayerQualityReport r = run(timeline, job, s, 10 * kTs, 1000, EnergyConfig(), 300, 400);
-  EXPECT_GE(r.unmatched_points, 100u);
-  EXPECT_LE(r.unmatched_points, 102u);
-  EXPECT_EQ(r.same_instant.mark.count() + r.same_instant.jump.count() + r.unmatched_points, r.commanded_points);
-  EXPECT_EQ(r.nearest_path.mark.count() + r.nearest_path.jump.count(), r.commanded_points);
+  EnergyConfig strict;
+  strict.same_instant_window_s = 0.0;
+  for (const EnergyConfig& config : { EnergyConfig(), strict })
+  {
+    const LayerQualityReport r = run(timeline, job, s, 10 * kTs, 1000, config, 300, 400);
+    const auto n = static_cast<std::uint64_t>(std::llround(config.same_instant_window_s / kTs));
+    EXPECT_EQ(r.unmatched_points, 100u - 2 * n);
+    EXPECT_EQ(r.same_instant.mark.count() + r.same_instant.jump.count() + r.unmatched_points, r.commanded_points);
+    EXPECT_EQ(r.nearest_path.mark.count() + r.nearest_path.jump.count(), r.commanded_points);
+  }
 }
 
 // Fill rate: a perfect machine fills 100 % of the hatch cells; a hatch displaced by 3 spot

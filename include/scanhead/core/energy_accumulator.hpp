@@ -24,9 +24,9 @@ namespace scanhead
 /// around the pixel holding c, its rows widened on the right to whole groups of 4 pixels (for the
 /// vector loop), then scaled so the stencil's weights sum to exactly (P_k T_s/m)/pixel² (energy
 /// conserved to rounding whatever the pixel, the incidence and the defocus; the part on pixels off
-/// the map is added to energyOutsideMap()). Each row of the quadratic form is a 1-D Gaussian in x,
-/// \f$ q_{xx}(x + (q_{xy}/q_{xx}) y)^2 + (q_{yy} - q_{xy}^2/q_{xx}) y^2 \f$, computed by recurrence
-/// (3 exponentials a row; one for the whole stencil when q_xy = 0, the circular spot).
+/// the map is added to energyOutsideMap()). The weights factor as rows × columns × a power table
+/// E_k^t (E_k = exp(−2 q_xy p x_k)) updated row by row, so no exponential is taken per row; for the
+/// circular spot (q_xy = 0) they are separable.
 /// The footprint follows the beam direction of the sample that carries the energy.
 /// The last sample stays pending until the next one arrives (so chunking does not change the
 /// result, bit for bit); finish() deposits it as a stationary dwell.
@@ -46,7 +46,6 @@ public:
   void finish();
   const TiledEnergyMap& map() const { return map_; }
   double energyOutsideMap() const { return outside_j_; }  ///< footprint energy that fell off the map [J]
-  double depositedEnergy() const { return deposited_j_; }  ///< Σ energy handed to the map [J] (before float rounding)
 
 private:
   void deposit(const SpotSample& from, const Eigen::Vector2d& to, double energy_j);
@@ -59,9 +58,10 @@ private:
   bool started_ = false;         ///< a sample has been seen since construction / reset()
   std::uint64_t next_index_ = 0; ///< global index expected next
   double outside_j_ = 0.0;
-  double deposited_j_ = 0.0;
   // Scratch (no allocation per sample).
-  std::vector<double> gx_, gy_, weights_, row_sum_, prefix_;
-  std::vector<float> gxf_;
+  std::vector<double> gx_, gy_, row_sum_, prefix_;
+  std::vector<float> gxf_, power_, ratio_;
+  double span_radius_ = -1.0;            ///< stencil radius [pixels] the row spans below are for
+  std::vector<int> span_lo_, span_hi_;   ///< stencil row t: local columns [lo, hi]
 };
 }  // namespace scanhead

@@ -19,6 +19,7 @@ struct EnergyConfig
   double track_exclude_ends_m = 100.0e-6;   ///< track energy: the start and end of each track left out (~3 spot radii)
   std::size_t track_max_samples = 1000000;  ///< track energy sampled on at most this many laser-on samples (longer jobs: every k-th, k doubling)
   std::size_t tile_cache_bytes = 268435456; ///< energy-map tiles kept in memory; the rest spill to a temporary file [bytes]
+  std::string spill_dir;              ///< folder of that file (removed at once, freed at exit); "": $TMPDIR, else /tmp
   bool oblique_incidence = true;      ///< stretch the footprint by 1/cos(incidence) along the beam's plane of incidence
   /// Distance to focus: "none" (in focus everywhere, a dynamic-focus head), "fixed" (defocus_m everywhere),
   /// "field" (a static focus on the sphere of radius focus_distance_m: z = L·(1/cos θ − 1) + defocus_m).
@@ -31,6 +32,7 @@ struct EnergyConfig
   std::string crop_regions;           ///< more crops: "x0,y0,x1,y1[,name];…" [m]
   std::size_t contour_max_samples = 60000000;  ///< nearest-path contour error for jobs up to this many samples (16 B each)
   double contour_lag_s = -1.0;        ///< same-instant contour error: actual behind command by this [s]; < 0: filter + servo delay
+  double same_instant_window_s = 200.0e-6;  ///< same-instant contour error: search ± this around the lagged sample [s] (0: strict)
 
   void validate() const;
   /// \brief Rayleigh length z_R = π w0² / (M² λ) [m] of the waist w0 = spot_diameter_m / 2.

@@ -44,6 +44,9 @@ private:
 /// GCC/Clang vector extensions; the order of operations per element is fixed (bit-reproducible).
 void axpyRow(float* y, const float* x, float c, int n);
 
-class TiledEnergyMap;
+/// \brief The checks of a map's geometry, dense or tiled.
+/// \throws ConfigError if pixel_m is not finite and > 0 (names energy.pixel_m)
+/// \throws InputError if the corners are not finite or max < min
+void checkMapGeometry(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m);
 
 }  // namespace scanhead

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -32,6 +33,7 @@ struct LayerQualityReport
 {
   double layer_time_s = 0.0;  ///< the NC program's duration, holds included (THESIS's layer time) [s]
   double lag_s = 0.0;         ///< actual path behind the command, for the same-instant pairing [s]
+  double window_s = 0.0;      ///< the same-instant search half-width used [s]
   std::uint64_t commanded_points = 0;   ///< samples of the program (t < layer time)
   std::uint64_t unmatched_points = 0;   ///< commanded points whose same-instant sample never came (stream gaps, end)
   ContourErrorSplit same_instant;       ///< definition (b), THESIS §2.5.3.1
@@ -42,11 +44,13 @@ struct LayerQualityReport
   double fill_rate = 0.0;               ///< reached / to fill (NaN: nothing to fill)
   std::uint64_t fill_points_outside = 0;  ///< points off the fill grid (counted, not silently dropped)
   double fill_pitch_m = 0.0;            ///< cell side = spot diameter [m]
-  Histogram angle_error_x{-1e-3, 1e-3, 200};  ///< Q_filt2 − Q_exp of galvo_x over the program [rad]
-  Histogram angle_error_y{-1e-3, 1e-3, 200};
+  /// Q_filt2 − Q_exp over the program [rad], 2 µrad bins (2.8 µm at the plane) over ±250 µrad (±0.35 mm);
+  /// beyond, counted as under/overflow
+  Histogram angle_error_x{-250e-6, 250e-6, 250};
+  Histogram angle_error_y{-250e-6, 250e-6, 250};
   Histogram mark_speed_ratio{0.0, 1.5, 150};  ///< actual speed / programmed speed, laser-on mark samples
-  double mark_speed_mean_ratio = 0.0;   ///< time-weighted mean of the ratio over laser-on mark samples
-  std::size_t memory_bytes = 0;         ///< largest memory of these trackers (path, index, grids) [bytes]
+  double mark_speed_mean_ratio = NAN;   ///< mean of the ratio over laser-on mark samples (NaN: none)
+  std::size_t memory_bytes = 0;         ///< largest memory of these trackers (path, index, grids, timeline copy) [bytes]
 };
 
 /// \brief Streams the spot chunks against the NC program's ideal timeline and measures the layer.
@@ -55,8 +59,12 @@ struct LayerQualityReport
 /// segment's (mark or not; contour if its job polyline has role Contour). The actual sample of the
 /// same instant is j = k + L, L = round(lag/Ts), lag = energy.contour_lag_s or, when < 0, the
 /// filter delay plus the servo's low-frequency delay (as the corner tracker).
-/// - same instant (b): min distance from c_k to the actual segments [p_{j−1}, p_j], [p_j, p_{j+1}]
-///   (exact point-segment distances in double; streaming, O(1) per point);
+/// - same instant (b), THESIS §2.5.3.1 after Duong et al. 2016: among the actual samples
+///   j ∈ [k + L − N, k + L + N] (N = energy.same_instant_window_s / Ts), the one nearest to c_k (the
+///   least following error; ties: the earliest), then the min distance from c_k to its adjacent
+///   segments [p_{j−1}, p_j], [p_j, p_{j+1}] (exact, in double; streaming, O(N) per point). N = 0
+///   is the strict same instant; N > 0 absorbs what the lag L misses (friction offsets along the
+///   track, axis lags), as the THESIS's search for the least following error does;
 /// - nearest path (a): min distance from c_k to every segment of the whole actual path (float
 ///   storage relative to the map origin: 3e-8 m resolution at 0.35 m), at finish() through
 ///   NearestPathIndex, the same-instant error as upper bound; jobs with more than
@@ -97,6 +105,7 @@ private:
   Command commandAt(std::uint64_t k, PathTimeline::Cursor& cursor) const;
   void sameInstant(std::uint64_t k);
   void unmatched(std::uint64_t k);
+  const Eigen::Vector2d& held(std::uint64_t index) const;
   static void addTo(ContourErrorSplit& split, Kind kind, double error_m);
 
   EnergyConfig config_;
@@ -111,12 +120,12 @@ private:
   PathPoints path_;
   bool path_gapped_ = false;
   PathTimeline::Cursor command_cursor_, lagged_cursor_;
-  // The last three accepted actual samples (index, position), contiguous or marked by a gap.
+  // The last 2N + 3 actual samples, sample i at ring_[i % size]; [ring_first_, next_index_) are held.
+  std::vector<Eigen::Vector2d> ring_;
+  std::uint64_t ring_first_ = 0;
   std::uint64_t next_index_ = 0;
   bool started_ = false;
-  std::uint64_t ring_index_[3] = {0, 0, 0};
-  Eigen::Vector2d ring_[3];
-  int ring_size_ = 0;  ///< valid contiguous entries ending at the newest
+  std::uint64_t window_samples_ = 0;  ///< N: the same-instant search half-width [samples]
   std::uint64_t next_command_ = 0;  ///< first commanded point not evaluated yet by (b)
   double speed_weighted_ = 0.0, speed_time_ = 0.0;
 };

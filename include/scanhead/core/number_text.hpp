@@ -19,4 +19,6 @@ NumberText parseNumber(const std::string& text, double& value);
 /// \brief \p value with 17 significant digits ("%.17g"): reads back bit-exactly, so files and
 /// messages written with it reproduce the number that was used.
 std::string fullPrecisionText(double value);
+/// \brief \p text as a YAML double-quoted scalar (quotes and backslashes escaped).
+std::string yamlQuoted(const std::string& text);
 }  // namespace scanhead

@@ -30,7 +30,8 @@ struct RunComparison
 /// \throws InputError naming the file if one is missing or is not a scanhead metrics.yaml
 RunComparison compareMetricsFiles(const std::string& metrics_a, const std::string& metrics_b);
 
-/// \brief The table as aligned text: figure, run A, run B, B − A (relative for times).
+/// \brief The table as aligned text: figure, run A, run B, B − A (points for shares, else relative)
+/// and which run is better by the row's sense.
 std::string comparisonTable(const RunComparison& comparison);
 /// \brief The same as YAML (full precision): {runs: [a, b], rows: [{key, label, unit, a, b}]}.
 std::string comparisonYaml(const RunComparison& comparison);

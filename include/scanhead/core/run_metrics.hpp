@@ -62,6 +62,7 @@ struct RunMetrics
   double corner_peak_to_track_mean_max = 0.0;  ///< the largest of them
   std::uint64_t map_tiles = 0;            ///< energy-map tiles the spot touched (64 × 64 pixels)
   std::uint64_t map_tiles_spilled = 0;    ///< of which written to the spill file at least once
+  std::uint64_t map_spill_file_bytes = 0; ///< disk the spill file took (16 KiB per spilled tile)
   std::size_t peak_memory_bytes = 0;      ///< the energy stage's data at its largest: resident tiles and directory, path, index, grids, track [bytes]
   LayerQualityReport quality;             ///< contour errors, fill rate, angle errors, speed, layer time
   bool thermal_enabled = false;           ///< the thermal view ran (thermal.enabled)

@@ -11,6 +11,6 @@ namespace scanhead
 {
 /// \brief Writes thermal_temperature.* (rise over the bed [K] in the final window) and
 /// thermal_melted.* (1 where a cell melted, over the melted cells' bounding box) into \p dir, in the
-/// formats of writeEnergyImages (colour PNG, 16-bit PNG, float TIFF, YAML with the geometry).
+/// formats of writeFieldImages (colour PNG, 16-bit PNG, float TIFF, YAML with the geometry).
 void writeThermalImages(const std::string& dir, const ThermalLayer& thermal);
 }  // namespace scanhead

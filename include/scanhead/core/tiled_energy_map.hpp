@@ -6,9 +6,9 @@
 
 #include <Eigen/Core>
 #include <cstdint>
-#include <cstdio>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "scanhead/core/energy_map.hpp"
@@ -19,10 +19,10 @@ namespace scanhead
 /// j < height; untouched pixels read 0.
 ///
 /// Pixels live in tiles of kTileSide² floats (tile (ti, tj) holds columns [ti·S, ti·S + S) and rows
-/// [tj·S, tj·S + S)). A dense directory maps each tile to its slot (4 B per tile: 2.3 MB for a
+/// [tj·S, tj·S + S)). A dense directory maps each tile to its slot (4 B per tile: 4.8 MB for a
 /// 350 mm field at 5 µm). At most cache_bytes of tiles are resident; when full, the oldest eighth
-/// (by last use) is written to an anonymous temporary file (std::tmpfile, removed at exit) and read
-/// back when touched again. Values never depend on what was spilled: the same deposits give the
+/// (by last use) is written to a temporary file (created in the spill folder and unlinked at once, so
+/// the system frees it whatever happens to the process) and read back when touched again. Values never depend on what was spilled: the same deposits give the
 /// same floats, bit for bit. Reading methods are const but may load tiles (the cache is mutable).
 /// Move-only (it owns the spill file).
 class TiledEnergyMap
@@ -32,10 +32,11 @@ public:
 
   /// \brief A map covering [min_corner, max_corner] (width = max(1, ceil(extent/pixel)), as EnergyMap).
   /// \param[in] cache_bytes resident tiles at most (≥ 16 tiles are always allowed)
+  /// \param[in] spill_dir   folder of the spill file; "": $TMPDIR, else /tmp
   /// \throws ConfigError if pixel_m is not > 0 or the tile directory would exceed 2^31 tiles
   /// \throws InputError if the corners are not finite or max < min
   TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m,
-                 std::size_t cache_bytes);
+                 std::size_t cache_bytes, std::string spill_dir = "");
   ~TiledEnergyMap();
   TiledEnergyMap(TiledEnergyMap&& other) noexcept;
   TiledEnergyMap& operator=(TiledEnergyMap&& other) noexcept;
@@ -52,19 +53,22 @@ public:
   /// \brief E[row][col + k] += c·x[k], k < n; the span must lie on the map (the accumulator clips).
   void addRow(std::int64_t row, std::int64_t col, const float* x, float c, int n);
 
-  double totalEnergy() const;  ///< Σ E·pixel² [J], summed per tile in tile order (deterministic)
-  double peak() const;         ///< max E [J/m²]
+  double totalEnergy() const;  ///< Σ E·pixel² [J], summed per tile in tile order (deterministic; cached)
+  double peak() const;         ///< max E [J/m²] (cached with the total: one pass over the tiles)
   void clear();                ///< back to no tile at all (the spill file is reused)
 
   /// \brief A dense copy of the pixels [col0, col0 + w) × [row0, row0 + h) (clipped to the map;
-  /// zeros where untouched); its origin is that of pixel (col0, row0).
-  /// \throws ConfigError from EnergyMap if w·h > 2^31
-  EnergyMap region(std::int64_t col0, std::int64_t row0, std::int64_t w, std::int64_t h) const;
-  /// \brief The map averaged over blocks of factor × factor pixels (energy conserved: block mean E
-  /// on pixels factor× larger; the last blocks are partial, averaged over the full block area).
-  EnergyMap overview(int factor) const;
-  /// \brief The smallest block factor whose overview fits max_side pixels on its longer side.
-  int overviewFactor(int max_side) const;
+  /// zeros where untouched), averaged over blocks of factor × factor pixels (energy conserved: block
+  /// mean E on pixels factor× larger; the last blocks are partial, averaged over the full block
+  /// area); its origin is that of pixel (col0, row0).
+  /// \throws ConfigError from EnergyMap if the result exceeds 2^31 pixels
+  EnergyMap region(std::int64_t col0, std::int64_t row0, std::int64_t w, std::int64_t h, int factor = 1) const;
+  /// \brief The whole map in blocks of factor × factor pixels (region() of everything).
+  EnergyMap overview(int factor) const { return region(0, 0, width_, height_, factor); }
+  /// \brief The smallest block factor that brings w × h pixels to at most max_side a side.
+  static int blockFactor(std::int64_t w, std::int64_t h, int max_side);
+  /// \brief blockFactor of the whole map.
+  int overviewFactor(int max_side) const { return blockFactor(width_, height_, max_side); }
   /// \brief The whole map dense (small maps, tests). \throws ConfigError beyond 2^31 pixels
   EnergyMap toDense() const { return region(0, 0, width_, height_); }
 
@@ -90,6 +94,8 @@ private:
   float* residentTile(std::int64_t tile) const;
   const float* tileForRead(std::int64_t tile, float* scratch) const;
   void makeRoom() const;
+  void summarise() const;
+  std::string spillDir() const;  ///< energy.spill_dir, else $TMPDIR, else /tmp
   void spill(Slot& slot) const;
   void load(Slot& slot) const;
 
@@ -103,7 +109,14 @@ private:
   mutable std::vector<float*> free_buffers_;
   mutable std::size_t resident_ = 0, peak_resident_ = 0, spilled_tiles_ = 0;
   mutable std::uint64_t clock_ = 0;
-  mutable std::FILE* spill_file_ = nullptr;
+  std::string spill_dir_;
+  mutable int spill_fd_ = -1;
   mutable std::int64_t spill_end_ = 0;
+  mutable std::int64_t hot_tile_ = -1;  ///< the tile last returned (a stencil's rows hit 1–4 tiles)
+  mutable std::size_t hot_slot_ = 0;
+  mutable float* hot_data_ = nullptr;   ///< valid until the next makeRoom()
+  mutable bool summary_valid_ = false;  ///< total_ and peak_ match the tiles
+  mutable double total_ = 0.0;
+  mutable float peak_ = 0.0f;
 };
 }  // namespace scanhead
