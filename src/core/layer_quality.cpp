@@ -160,8 +160,8 @@ void LayerQuality::process(const SpotChunk& chunk)
     {
       const double ratio = (s.actual - held(m - 1)).norm() / period_s_ / c.speed_mps;
       report_.mark_speed_ratio.add(ratio);
-      speed_weighted_ += ratio;
-      speed_time_ += 1.0;
+      speed_ratio_sum_ += ratio;
+      speed_samples_ += 1.0;
     }
     if (keep_path_)
       path_.add(s.actual);
@@ -204,7 +204,7 @@ LayerQualityReport LayerQuality::finish()
   report_.fill_cells_reached = fill_.cellsReached();
   report_.fill_rate = fill_.fillRate();
   report_.fill_points_outside = fill_.pointsOutside();
-  report_.mark_speed_mean_ratio = speed_time_ > 0.0 ? speed_weighted_ / speed_time_ : NAN;
+  report_.mark_speed_mean_ratio = speed_samples_ > 0.0 ? speed_ratio_sum_ / speed_samples_ : NAN;
   report_.memory_bytes = path_.memoryBytes() + index_bytes + fill_.memoryBytes() +
                          timeline_.segments().capacity() * sizeof(PathSegment);
   return report_;

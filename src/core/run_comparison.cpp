@@ -22,34 +22,34 @@ struct Figure
   const char* label;
   const char* unit;
   double scale;
-  bool lower_is_better;
+  Better better;
 };
 
 // What THESIS Table 3.1 and §2.6.2 compare, then the figures a process engineer adds.
 const Figure kFigures[] = {
-  { "layer_time_s", "layer time", "s", 1.0, true },
-  { "fill_rate", "fill rate (hatch)", "%", 100.0, false },
-  { "contour_error.same_instant.contour.share_under_10um", "contours < 10 um, same instant", "%", 100.0, false },
-  { "contour_error.same_instant.contour.share_under_20um", "contours < 20 um, same instant", "%", 100.0, false },
-  { "contour_error.same_instant.contour.share_under_30um", "contours < 30 um, same instant", "%", 100.0, false },
-  { "contour_error.nearest_path.contour.share_under_10um", "contours < 10 um, nearest path", "%", 100.0, false },
-  { "contour_error.nearest_path.contour.share_under_20um", "contours < 20 um, nearest path", "%", 100.0, false },
-  { "contour_error.nearest_path.contour.share_under_30um", "contours < 30 um, nearest path", "%", 100.0, false },
-  { "contour_error.same_instant.share_under_10um", "marks < 10 um, same instant", "%", 100.0, false },
-  { "contour_error.same_instant.share_under_30um", "marks < 30 um, same instant", "%", 100.0, false },
-  { "contour_error.same_instant.hatch.share_under_10um", "hatch < 10 um, same instant", "%", 100.0, false },
-  { "contour_error.same_instant.jump.share_under_30um", "jumps < 30 um, same instant", "%", 100.0, false },
-  { "contour_error.same_instant.contour.max_m", "contour error max, same instant", "um", 1e6, true },
-  { "contour_error.same_instant.contour.p99_m", "contour error p99, same instant", "um", 1e6, true },
-  { "speed_profile.mean_ratio", "mark speed / programmed (mean)", "%", 100.0, false },
-  { "speed_profile.share_below_90pct", "mark time below 90 % speed", "%", 100.0, true },
-  { "angle_error.x.quantiles.p99", "angle error x p99", "urad", 1.0, true },
-  { "angle_error.y.quantiles.p99", "angle error y p99", "urad", 1.0, true },
-  { "peak_energy_density_jpm2", "peak energy density", "J/mm^2", 1e-6, true },
-  { "track_energy.mean_jpm2", "mean energy along tracks", "J/mm^2", 1e-6, false },
-  { "corner_energy.max_peak_to_track_mean", "corner peak / track mean (max)", "x", 1.0, true },
-  { "laser_off_path_samples", "laser on off the marks", "samples", 1.0, true },
-  { "dropped_samples", "dropped samples", "samples", 1.0, true },
+  { "layer_time_s", "layer time", "s", 1.0, Better::Lower },
+  { "fill_rate", "fill rate (hatch)", "%", 100.0, Better::Higher },
+  { "contour_error.same_instant.contour.share_under_10um", "contours < 10 um, same instant", "%", 100.0, Better::Higher },
+  { "contour_error.same_instant.contour.share_under_20um", "contours < 20 um, same instant", "%", 100.0, Better::Higher },
+  { "contour_error.same_instant.contour.share_under_30um", "contours < 30 um, same instant", "%", 100.0, Better::Higher },
+  { "contour_error.nearest_path.contour.share_under_10um", "contours < 10 um, nearest path", "%", 100.0, Better::Higher },
+  { "contour_error.nearest_path.contour.share_under_20um", "contours < 20 um, nearest path", "%", 100.0, Better::Higher },
+  { "contour_error.nearest_path.contour.share_under_30um", "contours < 30 um, nearest path", "%", 100.0, Better::Higher },
+  { "contour_error.same_instant.share_under_10um", "marks < 10 um, same instant", "%", 100.0, Better::Higher },
+  { "contour_error.same_instant.share_under_30um", "marks < 30 um, same instant", "%", 100.0, Better::Higher },
+  { "contour_error.same_instant.hatch.share_under_10um", "hatch < 10 um, same instant", "%", 100.0, Better::Higher },
+  { "contour_error.same_instant.jump.share_under_30um", "jumps < 30 um, same instant", "%", 100.0, Better::Higher },
+  { "contour_error.same_instant.contour.max_m", "contour error max, same instant", "um", 1e6, Better::Lower },
+  { "contour_error.same_instant.contour.p99_m", "contour error p99, same instant", "um", 1e6, Better::Lower },
+  { "speed_profile.mean_ratio", "mark speed / programmed (mean)", "%", 100.0, Better::Higher },
+  { "speed_profile.share_below_90pct", "mark time below 90 % speed", "%", 100.0, Better::Lower },
+  { "angle_error.x.quantiles.p99", "angle error x p99", "urad", 1.0, Better::Lower },
+  { "angle_error.y.quantiles.p99", "angle error y p99", "urad", 1.0, Better::Lower },
+  { "peak_energy_density_jpm2", "peak energy density", "J/mm^2", 1e-6, Better::None },
+  { "track_energy.mean_jpm2", "mean energy along tracks", "J/mm^2", 1e-6, Better::None },
+  { "corner_energy.max_peak_to_track_mean", "corner peak / track mean (max)", "x", 1.0, Better::Lower },
+  { "laser_off_path_samples", "laser on off the marks", "samples", 1.0, Better::Lower },
+  { "dropped_samples", "dropped samples", "samples", 1.0, Better::Lower },
 };
 
 /// metrics.yaml up to its corner list: a whole layer has ~1e5 corners (40 MB) that no figure here needs.
@@ -119,14 +119,14 @@ std::string cell(double v, const std::string& unit)
   return text;
 }
 
-/// "A", "B" or "=" by the row's sense; "" where a value is missing.
+/// "A", "B" or "=" by the row's sense; "" where a value is missing or the figure ranks nothing.
 const char* better(const ComparisonRow& r)
 {
-  if (std::isnan(r.a) || std::isnan(r.b))
+  if (std::isnan(r.a) || std::isnan(r.b) || r.better == Better::None)
     return "";
   if (r.a == r.b)
     return "=";
-  return (r.b < r.a) == r.lower_is_better ? "B" : "A";
+  return (r.b < r.a) == (r.better == Better::Lower) ? "B" : "A";
 }
 
 std::string change(const ComparisonRow& r)
@@ -158,7 +158,7 @@ RunComparison compareMetricsFiles(const std::string& metrics_a, const std::strin
     row.unit = f.unit;
     row.a = lookup(a, f.key) * f.scale;
     row.b = lookup(b, f.key) * f.scale;
-    row.lower_is_better = f.lower_is_better;
+    row.better = f.better;
     c.rows.push_back(row);
   }
   return c;
@@ -187,7 +187,8 @@ std::string comparisonYaml(const RunComparison& c)
   std::string out = "runs: [" + yamlQuoted(c.name_a) + ", " + yamlQuoted(c.name_b) + "]\nrows:\n";
   for (const ComparisonRow& r : c.rows)
     out += "  - {key: " + r.key + ", label: " + yamlQuoted(r.label) + ", unit: " + yamlQuoted(r.unit) + ", a: " + number(r.a) +
-           ", b: " + number(r.b) + ", lower_is_better: " + (r.lower_is_better ? "true" : "false") + "}\n";
+           ", b: " + number(r.b) + ", better: " +
+           (r.better == Better::Lower ? "lower" : r.better == Better::Higher ? "higher" : "none") + "}\n";
   return out;
 }
 

@@ -192,6 +192,7 @@ float* TiledEnergyMap::tileForWrite(std::int64_t tile) const
   float* data = residentTile(tile);
   summary_valid_ = false;
   slots_[hot_slot_].dirty = true;
+  hot_written_ = true;
   return data;
 }
 
@@ -219,6 +220,7 @@ float* TiledEnergyMap::residentTile(std::int64_t tile) const
   hot_tile_ = tile;
   hot_slot_ = static_cast<std::size_t>(index);
   hot_data_ = slot.data;
+  hot_written_ = false;
   return slot.data;
 }
 
@@ -258,7 +260,8 @@ void TiledEnergyMap::addRow(std::int64_t row, std::int64_t col, const float* x, 
     const std::int64_t column = col + done;
     const std::int64_t in_col = column % kTileSide;
     const int count = static_cast<int>(std::min<std::int64_t>(n - done, kTileSide - in_col));
-    float* y = tileForWrite(tile_row + column / kTileSide) + in_row + in_col;
+    const std::int64_t tile = tile_row + column / kTileSide;
+    float* y = (tile == hot_tile_ && hot_written_ ? hot_data_ : tileForWrite(tile)) + in_row + in_col;
     axpyRow(y, x + done, c, count);
     done += count;
   }

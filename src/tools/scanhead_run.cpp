@@ -102,7 +102,7 @@ int main(int argc, char** argv)
     {
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::cout << metricsTable(metrics) << ncLimitsLine(chain.nc().stats(), config.nc);
-      std::printf("run: %.2f s wall for %.4f s of machine time (%.1fx real time, results and plots included), "
+      std::printf("run: %.2f s wall for %.4g s of machine time (%.3gx real time, results and plots included), "
                   "process peak memory %.0f MiB\n",
                   wall, metrics.duration_s, metrics.duration_s / wall, processPeakResidentBytes() / 1048576.0);
       std::cout << "results written to " << out << "/\n";

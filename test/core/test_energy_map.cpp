@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "spot_stream_fixture.hpp"
 #include "scanhead/core/energy_accumulator.hpp"
 #include "scanhead/core/errors.hpp"
 
@@ -21,45 +22,15 @@ using scanhead::SpotSample;
 
 namespace
 {
-constexpr double kTs = 1e-5;  // 100 kHz
+constexpr double kTs = scanhead::test_support::kStreamPeriod_s;  // 100 kHz
 
-struct Stream
-{
-  std::vector<Eigen::Vector2d> pos;
-  std::vector<double> power;
-
-  void add(const Eigen::Vector2d& p, double w)
-  {
-    pos.push_back(p);
-    power.push_back(w);
-  }
-  double commandedEnergy() const
-  {
-    double e = 0.0;
-    for (double w : power)
-      e += w * kTs;
-    return e;
-  }
-};
+using Stream = scanhead::test_support::SpotStream;
 
 /// \brief Feeds the stream in chunks of \p chunk samples, then finish().
 void feed(EnergyAccumulator& acc, const Stream& s, std::size_t chunk)
 {
   for (std::size_t start = 0; start < s.pos.size(); start += chunk)
-  {
-    SpotChunk c;
-    c.first_index = start;
-    c.period_s = kTs;
-    for (std::size_t k = start; k < std::min(s.pos.size(), start + chunk); ++k)
-    {
-      SpotSample sample;
-      sample.actual = s.pos[k];
-      sample.setpoint = s.pos[k];
-      sample.power_w = s.power[k];
-      c.samples.push_back(sample);
-    }
-    acc.process(c);
-  }
+    acc.process(s.chunk(start, chunk));
   acc.finish();
 }
 

@@ -154,6 +154,12 @@ TEST(LayerReport, ComparisonOfTwoRecipes)
   EXPECT_TRUE(found_fill);
   EXPECT_NE(comparisonTable(c).find("layer time"), std::string::npos);
   EXPECT_NE(comparisonMarkdown(c).find("| fill rate (hatch) | % |"), std::string::npos);
+  // The shorter layer is the better one; the energy level ranks nothing.
+  const std::string md = comparisonMarkdown(c);
+  const std::string layer_line = md.substr(md.find("| layer time"), md.find('\n', md.find("| layer time")) - md.find("| layer time"));
+  EXPECT_EQ(layer_line.substr(layer_line.size() - 5), "| B |") << layer_line;
+  const std::string energy_line = md.substr(md.find("| mean energy along tracks"));
+  EXPECT_EQ(energy_line.substr(energy_line.find('\n') - 4, 4), "|  |") << energy_line.substr(0, energy_line.find('\n'));
   const YAML::Node y = YAML::Load(comparisonYaml(c));
   EXPECT_EQ(y["rows"].size(), c.rows.size());
   EXPECT_THROW(compareMetricsFiles("/nonexistent/metrics.yaml", (b.dir / "metrics.yaml").string()), InputError);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "spot_stream_fixture.hpp"
 #include "scanhead/core/errors.hpp"
 #include "scanhead/core/thermal_layer.hpp"
 
@@ -28,53 +29,13 @@ using scanhead::ThermalWindow;
 
 namespace
 {
-constexpr double kTs = 1e-5;  // NC period, 100 kHz
+constexpr double kTs = scanhead::test_support::kStreamPeriod_s;  // NC period, 100 kHz
 
-struct Stream
-{
-  std::vector<Eigen::Vector2d> pos;
-  std::vector<double> power;
-
-  void add(const Eigen::Vector2d& p, double w)
-  {
-    pos.push_back(p);
-    power.push_back(w);
-  }
-  /// \brief Straight line from the last point (or \p a) to \p b at speed v, power P (last sample on b).
-  void line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double v, double p)
-  {
-    const int n = std::max(1, static_cast<int>(std::round((b - a).norm() / (v * kTs))));
-    for (int k = 0; k <= n; ++k)
-      add(a + (b - a) * (double(k) / n), p);
-  }
-  void dwell(const Eigen::Vector2d& a, int samples, double p)
-  {
-    for (int k = 0; k < samples; ++k)
-      add(a, p);
-  }
-  double energy() const
-  {
-    double e = 0.0;
-    for (double w : power)
-      e += w * kTs;
-    return e;
-  }
-};
+using Stream = scanhead::test_support::SpotStream;
 
 SpotChunk chunkOf(const Stream& s, std::size_t start, std::size_t count)
 {
-  SpotChunk c;
-  c.first_index = start;
-  c.period_s = kTs;
-  for (std::size_t k = start; k < std::min(s.pos.size(), start + count); ++k)
-  {
-    SpotSample sample;
-    sample.actual = s.pos[k];
-    sample.setpoint = s.pos[k];
-    sample.power_w = s.power[k];
-    c.samples.push_back(sample);
-  }
-  return c;
+  return s.chunk(start, count);
 }
 
 /// \brief Feeds \p s in chunks of \p chunk samples, then finish(); returns every step.
@@ -219,7 +180,7 @@ TEST(ThermalLayer, DwellEnergyConservation)
   }
   layer.finish();
   const ThermalEnergy e = layer.energy();
-  const double absorbed = c.absorptivity * s.energy();
+  const double absorbed = c.absorptivity * s.commandedEnergy();
   const double stored = storedFromWindow(layer.window(), c);
   std::cout << "[dwell] absorbed " << e.absorbed_j << " J, stored " << e.stored_j << " J, lost " << e.lost_j
             << " J, switch " << e.phase_switch_j << " J, outside " << e.outside_j << ", left " << e.left_window_j

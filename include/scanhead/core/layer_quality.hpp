@@ -127,6 +127,6 @@ private:
   bool started_ = false;
   std::uint64_t window_samples_ = 0;  ///< N: the same-instant search half-width [samples]
   std::uint64_t next_command_ = 0;  ///< first commanded point not evaluated yet by (b)
-  double speed_weighted_ = 0.0, speed_time_ = 0.0;
+  double speed_ratio_sum_ = 0.0, speed_samples_ = 0.0;
 };
 }  // namespace scanhead

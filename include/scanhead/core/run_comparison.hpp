@@ -9,14 +9,22 @@
 
 namespace scanhead
 {
-/// \brief One compared figure: its name, unit, the two values and whether lower is better.
+/// \brief Which way a figure improves (None: it describes the run, it does not rank it).
+enum class Better
+{
+  Lower,
+  Higher,
+  None
+};
+
+/// \brief One compared figure: its name, unit, the two values and which way is better.
 struct ComparisonRow
 {
   std::string key;    ///< path in metrics.yaml, e.g. "contour_error.same_instant.contour.share_under_10um"
   std::string label;  ///< human-readable, e.g. "contours < 10 um (same instant)"
   std::string unit;   ///< shown unit ("%", "s", "um"…): values are already scaled to it
   double a = 0.0, b = 0.0;
-  bool lower_is_better = false;
+  Better better = Better::None;
 };
 
 struct RunComparison

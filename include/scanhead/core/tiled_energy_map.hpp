@@ -115,6 +115,7 @@ private:
   mutable std::int64_t hot_tile_ = -1;  ///< the tile last returned (a stencil's rows hit 1–4 tiles)
   mutable std::size_t hot_slot_ = 0;
   mutable float* hot_data_ = nullptr;   ///< valid until the next makeRoom()
+  mutable bool hot_written_ = false;    ///< the hot tile came through tileForWrite (dirty, summary stale)
   mutable bool summary_valid_ = false;  ///< total_ and peak_ match the tiles
   mutable double total_ = 0.0;
   mutable float peak_ = 0.0f;
