@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # With the NC options on (table IGT, adaptive filters, power ~ speed, quantisation; a THESIS recipe
 # with delays, skywriting, capped speeds, power ~ predicted speed and the bilinear table), the live
-# graph and the batch runner write identical metrics.yaml; also on the OPT table 2 machine (defects:=).
+# graph and the batch runner write identical metrics.yaml; also on the OPT table 2 machine (defects:=),
+# and for the layer report with its options (crops, defocus, a spilling map, the thermal view).
 # Registered with CTest (see CMakeLists.txt); needs the installed package on the environment.
 set -euo pipefail
 run=${1:-scanhead_run}
@@ -35,3 +36,11 @@ compare defects "corner:speed=2,angle=90" optics.defects=opt_table2 nc.igt.mode=
 compare timing "squares:recipe=1,rows=1,columns=1,spacing=0.003" recipe.preset=thesis1 nc.skywriting.enabled=true \
   nc.mark_delay_s=100e-6 nc.jump_delay_s=250e-6 nc.polygon_delay_s=40e-6 nc.polygon_delay_mode=angle \
   nc.cap_speeds=true nc.power_mode=predicted nc.igt.mode=table
+# The layer report (issue 7): a whole square through the graph, defocus on the field, the thermal
+# view, a crop region and a small tile cache that spills: metrics.yaml and the crops byte for byte.
+compare layer "squares:recipe=2,rows=1,columns=1,side=0.004" energy.defocus_mode=field energy.tile_cache_bytes=1048576 \
+  thermal.enabled=true thermal.duration_s=0.004 "energy.crop_regions=-0.001,-0.001,0.001,0.001,centre"
+for f in crops/part_000.tiff crops/centre.tiff thermal_melted.tiff; do
+  cmp "$tmp/layer-batch/$f" "$tmp/layer-graph/$f" || { echo "FAIL: layer: $f differs"; exit 1; }
+done
+echo "layer: crops and thermal images are identical"
