@@ -96,6 +96,34 @@ TEST(BatchChain, ChunkingDoesNotChangeResults)
   }
 }
 
+// The bounded-memory paths of the energy stage do not depend on the chunking either: the track
+// thinned to every 8th laser-on sample (cap 100), a 1 MiB tile cache that spills, the nearest-path
+// contour error switched off by its cap; and thinning keeps the straight-track level within 2 %.
+TEST(BatchChain, BoundedMemoryPathsAreChunkInvariant)
+{
+  const std::vector<std::string> bounded = { "energy.track_max_samples=100", "energy.tile_cache_bytes=1048576",
+                                             "energy.contour_max_samples=100", "energy.pixel_m=2e-6" };
+  auto with = [&](const char* chunk) {
+    std::vector<std::string> o = bounded;
+    o.push_back(std::string("stream.chunk_samples=") + chunk);
+    return runJob("corner", o);
+  };
+  const ChainRun ref = with("1000");
+  EXPECT_GT(ref.metrics.track_stride, 1u);
+  EXPECT_GT(ref.metrics.map_tiles_spilled, 0u);
+  EXPECT_FALSE(ref.metrics.quality.nearest_measured);
+  for (const char* chunk : { "1", "7" })
+  {
+    const ChainRun other = with(chunk);
+    EXPECT_EQ(metricsToYaml(other.metrics), metricsToYaml(ref.metrics)) << chunk;
+    EXPECT_TRUE(other.map == ref.map) << "energy map differs with chunks of " << chunk;
+  }
+  const ChainRun full = runJob("corner", { "energy.pixel_m=2e-6" });
+  EXPECT_EQ(full.metrics.track_stride, 1u);
+  EXPECT_NEAR(ref.metrics.track_median_jpm2, full.metrics.track_median_jpm2, 0.02 * full.metrics.track_median_jpm2);
+  EXPECT_TRUE(full.map == ref.map) << "spilling changed the map";
+}
+
 // Energy: deposited within 0.5 % of ∫P dt when the path is inside the map (issue acceptance);
 // the Gaussian sums to its integral far better than that, so assert 1e-6 and report.
 TEST(BatchChain, EnergyBalance)
