@@ -1,6 +1,7 @@
 #include "scanhead/core/energy_stage.hpp"
 
 #include <cmath>
+#include <future>
 
 #include "scanhead/core/galvo_servo.hpp"
 #include "scanhead/core/track_energy.hpp"
@@ -10,6 +11,7 @@ namespace scanhead
 namespace
 {
 constexpr std::size_t kMaxTraceRows = 20000;  // plots need no more; bounds memory on long jobs
+constexpr std::size_t kParallelChunkSamples = 64;  // smaller chunks run their trackers inline
 
 EnergyAccumulator makeAccumulator(const ChainConfig& config, const Job& job)
 {
@@ -79,16 +81,29 @@ EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcInte
 
 void EnergyStage::process(const SpotChunk& chunk)
 {
-  counter_.process(chunk);
+  // The map and the trackers share nothing but the (read-only) chunk: the trackers run on a second
+  // core while this one deposits the energy, and are joined before returning (so results do not
+  // depend on the scheduling, and an exception in either reaches the caller).
+  auto track = [this, &chunk] {
+    counter_.process(chunk);
+    corners_.process(chunk);
+    settling_.process(chunk);
+    placement_.add(chunk);
+    trace_.process(chunk);
+    keepTrack(chunk);
+    quality_.process(chunk);
+    if (thermal_)
+      feedThermal(chunk);
+  };
+  if (chunk.samples.size() < kParallelChunkSamples)
+  {
+    track();  // a thread would cost more than it saves
+    accumulator_.process(chunk);
+    return;
+  }
+  auto trackers = std::async(std::launch::async, track);
   accumulator_.process(chunk);
-  corners_.process(chunk);
-  settling_.process(chunk);
-  placement_.add(chunk);
-  trace_.process(chunk);
-  keepTrack(chunk);
-  quality_.process(chunk);
-  if (thermal_)
-    feedThermal(chunk);
+  trackers.get();
 }
 
 void EnergyStage::feedThermal(const SpotChunk& chunk)
@@ -153,6 +168,9 @@ void EnergyStage::thinTrack()
 
 RunMetrics EnergyStage::finish()
 {
+  // The layer metrics' last pass (the nearest-path index over the whole path) needs no map: it runs
+  // on the second core while this one reads the map for the energy figures.
+  auto quality = std::async(std::launch::async, [this] { return quality_.finish(); });
   accumulator_.finish();
   RunMetrics m;
   m.job_name = job_name_;
@@ -201,7 +219,7 @@ RunMetrics EnergyStage::finish()
   }
   if (track.mean_jpm2 > 0.0 && !m.corners.empty())
     m.corner_peak_to_track_mean = ratio_sum / static_cast<double>(m.corners.size());
-  m.quality = quality_.finish();
+  m.quality = quality.get();
   if (thermal_)
   {
     thermal_->finish();

@@ -29,8 +29,11 @@ public:
   ///                gives the corners' times and the laser windows, its stats the filter delay,
   ///                totalSamples() the plot decimation
   EnergyStage(const ChainConfig& config, const Job& job, const NcInterpolator& nc);
+  /// \brief Deposits the chunk's energy and feeds every tracker; the trackers run on a second thread
+  /// while the map is written (they share only the read-only chunk), joined before returning.
   void process(const SpotChunk& chunk);
-  /// \brief Ends the stream and returns the run's metrics.
+  /// \brief Ends the stream and returns the run's metrics (the nearest-path pass on a second
+  /// thread while the map is read).
   RunMetrics finish();
 
   const TiledEnergyMap& map() const { return accumulator_.map(); }
