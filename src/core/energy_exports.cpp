@@ -3,10 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "scanhead/core/colour_map.hpp"
 #include "scanhead/core/errors.hpp"

@@ -67,7 +67,7 @@ struct LayerQualityReport
 ///   track, axis lags), as the THESIS's search for the least following error does;
 /// - nearest path (a): min distance from c_k to every segment of the whole actual path (float
 ///   storage relative to the map origin: 3e-8 m resolution at 0.35 m), at finish() through
-///   NearestPathIndex, the same-instant error as upper bound; jobs with more than
+///   NearestPathIndex, the strict same-instant distance as upper bound; jobs with more than
 ///   energy.contour_max_samples samples skip it (16 B per sample would not stay bounded);
 /// - fill rate: FillRateGrid of pitch = spot diameter; to fill: the commanded hatch marks; reached:
 ///   the laser-on actual spot while its same-instant command is a hatch mark;
