@@ -1,12 +1,12 @@
 /// \file galvo_identification.cpp
 #include "scanhead/core/galvo_identification.hpp"
+#include "scanhead/core/text_file.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include <Eigen/Dense>
@@ -166,13 +166,6 @@ std::string complexText(Complex v)
   return "[" + num(v.real()) + ", " + num(v.imag()) + "]";
 }
 
-void writeText(const std::filesystem::path& path, const std::string& text)
-{
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out.good())
-    throw InputError(path.string() + ": cannot write");
-}
 }  // namespace
 
 void IdentificationConfig::validate() const
@@ -568,8 +561,8 @@ std::string identificationReport(const GalvoPlantParams& truth, const Identifica
     fs::create_directories(out_dir, ec);
     if (ec)
       throw InputError(out_dir + ": cannot create (" + ec.message() + ")");
-    writeText(fs::path(out_dir) / "bode.csv", bodeCsv(r, truth));
-    writeText(fs::path(out_dir) / "identification.yaml", yaml);
+    writeTextFile(fs::path(out_dir) / "bode.csv", bodeCsv(r, truth));
+    writeTextFile(fs::path(out_dir) / "identification.yaml", yaml);
     const std::string script = resolvePackagePath("scripts/plot_bode.py");
     const std::string command = "/usr/bin/python3 '" + script + "' '" + out_dir + "' 2>&1";
     if (std::system(command.c_str()) != 0)

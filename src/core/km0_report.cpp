@@ -1,6 +1,7 @@
 /// \file km0_report.cpp
 /// \brief KM0 verdicts, YAML report, CSV files, and the one-call protocol run.
 #include "scanhead/core/km0_report.hpp"
+#include "scanhead/core/text_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -121,13 +122,6 @@ std::string verdictMap(const std::vector<Graded>& g)
   return out + "}";
 }
 
-void writeText(const fs::path& path, const std::string& text)
-{
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out.good())
-    throw InputError(path.string() + ": cannot write");
-}
 
 /// True if the following error at the ramp ends increases with |speed| (ramps sorted by speed;
 /// equal speeds, up and down, are averaged).
@@ -358,7 +352,7 @@ void writeKm0Csv(const Km0Signal& signal, const Km0Response& response, const Km0
           << (s.setpoint_limited ? 1 : 0) << ","
           << km0VerdictName(worst(gradeStep(s, config.thresholds, config.signal.max_speed_radps))) << "\n";
     }
-    writeText(dir / "km0_steps.csv", out.str());
+    writeTextFile(dir / "km0_steps.csv", out.str());
   }
   {
     const Km0FrictionBaseline b = km0Baseline(config, info);
@@ -378,7 +372,7 @@ void writeKm0Csv(const Km0Signal& signal, const Km0Response& response, const Km0
           << num(d.friction_excess_pct, false) << "," << km0VerdictName(worst(gradeRamp(r, d, config.thresholds)))
           << "\n";
     }
-    writeText(dir / "km0_ramps.csv", out.str());
+    writeTextFile(dir / "km0_ramps.csv", out.str());
   }
 }
 
@@ -399,7 +393,7 @@ std::string km0Report(const ServoConfig& servo, int axis, double period_s, const
   std::vector<std::string> files = {"km0_report.yaml", "km0_signal.csv", "km0_steps.csv", "km0_ramps.csv"};
   const fs::path dir(out_dir);
   // The plots read km0_report.yaml: write it first, then again with the list of files.
-  writeText(dir / "km0_report.yaml", km0ReportYaml(results, config, info, period_s, files));
+  writeTextFile(dir / "km0_report.yaml", km0ReportYaml(results, config, info, period_s, files));
   if (!plot_script.empty())
   {
     const std::string command = "/usr/bin/python3 '" + plot_script + "' '" + dir.string() + "' 2>&1";
@@ -414,7 +408,7 @@ std::string km0Report(const ServoConfig& servo, int axis, double period_s, const
     }
   }
   const std::string yaml = km0ReportYaml(results, config, info, period_s, files);
-  writeText(dir / "km0_report.yaml", yaml);
+  writeTextFile(dir / "km0_report.yaml", yaml);
   return yaml;
 }
 }  // namespace scanhead

@@ -1,10 +1,10 @@
 #include "scanhead/core/number_text.hpp"
+#include "scanhead/core/text_file.hpp"
 #include "scanhead/core/results_writer.hpp"
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <system_error>
 
 #include "scanhead/core/batch_chain.hpp"
@@ -23,13 +23,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-void writeText(const fs::path& path, const std::string& text)
-{
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out.good())
-    throw InputError(path.string() + ": cannot write");
-}
 
 /// A folder the writer may replace: empty, or written by an earlier run.
 bool replaceable(const fs::path& dir)
@@ -54,13 +47,13 @@ void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, 
   try
   {
     fs::create_directory(tmp);
-    writeText(tmp / kResultsMarker, "written by scanhead\n");
-    writeText(tmp / "metrics.yaml", metricsToYaml(metrics));
-    writeText(tmp / "config.yaml", chainConfigToYaml(config));
-    writeText(tmp / "job.yaml", scanJobToYaml(job));
-    writeText(tmp / "job_stats.yaml", jobStatsYaml(computeJobStats(job, config.nc.implicit_jump_speed_mps)));
+    writeTextFile(tmp / kResultsMarker, "written by scanhead\n");
+    writeTextFile(tmp / "metrics.yaml", metricsToYaml(metrics));
+    writeTextFile(tmp / "config.yaml", chainConfigToYaml(config));
+    writeTextFile(tmp / "job.yaml", scanJobToYaml(job));
+    writeTextFile(tmp / "job_stats.yaml", jobStatsYaml(computeJobStats(job, config.nc.implicit_jump_speed_mps)));
     writeJobPicture((tmp / "job.png").string(), job, 1600);
-    writeText(tmp / "trace.csv", energy.trace().csv(config.nc.period_s));
+    writeTextFile(tmp / "trace.csv", energy.trace().csv(config.nc.period_s));
     writeEnergyExports(tmp.string(), energy.map(), job, config.energy);
     if (energy.thermal() != nullptr)
       writeThermalImages(tmp.string(), *energy.thermal());

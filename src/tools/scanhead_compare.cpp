@@ -1,11 +1,11 @@
 // scanhead_compare: two runs side by side (THESIS Table 3.1), as a table, YAML, Markdown and a plot.
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <string>
 
 #include "argument_cursor.hpp"
 #include "scanhead/core/errors.hpp"
+#include "scanhead/core/text_file.hpp"
 #include "scanhead/core/results_writer.hpp"
 #include "scanhead/core/run_comparison.hpp"
 
@@ -22,13 +22,6 @@ std::string metricsPath(const std::string& run)
   return std::filesystem::is_directory(run) ? (std::filesystem::path(run) / "metrics.yaml").string() : run;
 }
 
-void writeText(const std::filesystem::path& path, const std::string& text)
-{
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out.good())
-    throw scanhead::InputError(path.string() + ": cannot write");
-}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -65,8 +58,8 @@ int main(int argc, char** argv)
     if (!out.empty())
     {
       std::filesystem::create_directories(out);
-      writeText(std::filesystem::path(out) / "comparison.yaml", comparisonYaml(comparison));
-      writeText(std::filesystem::path(out) / "comparison.md", comparisonMarkdown(comparison));
+      writeTextFile(std::filesystem::path(out) / "comparison.yaml", comparisonYaml(comparison));
+      writeTextFile(std::filesystem::path(out) / "comparison.md", comparisonMarkdown(comparison));
       runPythonScript("scripts/plot_comparison.py", { metricsPath(runs[0]), metricsPath(runs[1]), comparison.name_a,
                                                       comparison.name_b, (std::filesystem::path(out) / "comparison.png").string() });
       std::cout << "written to " << out << "/\n";

@@ -2,7 +2,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -10,6 +9,7 @@
 
 #include "argument_cursor.hpp"
 #include "scanhead/core/batch_chain.hpp"
+#include "scanhead/core/text_file.hpp"
 #include "scanhead/core/builtin_jobs.hpp"
 #include "scanhead/core/cli_format.hpp"
 #include "scanhead/core/config_io.hpp"
@@ -90,13 +90,6 @@ Arguments parse(int argc, char** argv)
   return a;
 }
 
-void writeFile(const std::string& path, const std::string& bytes)
-{
-  std::ofstream out(path, std::ios::binary);
-  out << bytes;
-  if (!out.good())
-    throw scanhead::InputError(path + ": cannot write");
-}
 
 bool endsWith(const std::string& text, const std::string& suffix)
 {
@@ -184,9 +177,9 @@ int main(int argc, char** argv)
     if (args.command == "picture")
       writeJobPicture(args.out, job, args.size);
     else if (endsWith(args.out, ".cli"))
-      writeFile(args.out, args.binary ? writeCliBinary(job, args.units_mm) : writeCliAscii(job, args.units_mm));
+      writeTextFile(args.out, args.binary ? writeCliBinary(job, args.units_mm) : writeCliAscii(job, args.units_mm));
     else if (endsWith(args.out, ".yaml") || endsWith(args.out, ".yml"))
-      writeFile(args.out, scanJobToYaml(job));
+      writeTextFile(args.out, scanJobToYaml(job));
     else
       throw ConfigError("--out must end in .yaml or .cli (got '" + args.out + "')");
     std::cout << args.command << ": " << job.name << " -> " << args.out << "\n";

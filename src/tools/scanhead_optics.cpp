@@ -5,7 +5,6 @@
 #include <cerrno>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -13,6 +12,7 @@
 
 #include "argument_cursor.hpp"
 #include "scanhead/core/batch_chain.hpp"
+#include "scanhead/core/text_file.hpp"
 #include "scanhead/core/calibration.hpp"
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/correction_table.hpp"
@@ -225,13 +225,6 @@ int residual(const Arguments& a, const Machine& m)
   printReport("own_table", measureTableError(own_table, interpolation, m.optics, a.probes));
   return 0;
 }
-void writeFile(const std::string& path, const std::string& text)
-{
-  std::ofstream out(path);
-  out << text;
-  if (!out)
-    throw scanhead::InputError(path + ": cannot write");
-}
 
 int influence(const Arguments& a, const Machine& m)
 {
@@ -240,7 +233,7 @@ int influence(const Arguments& a, const Machine& m)
   std::filesystem::create_directories(a.out);
   const std::vector<InfluenceRow> rows = influenceTable(m.nominal, m.config.optics, a.grid != 0 ? a.grid : 21);
   const std::string yaml = a.out + "/influence.yaml";
-  writeFile(yaml, influenceYaml(rows));
+  writeTextFile(yaml, influenceYaml(rows));
   runPythonScript("scripts/plot_optics.py", { "influence", yaml, a.out + "/influence_chart.png" });
   std::cout << "influence of the 30 defects written to " << yaml << " and " << a.out << "/influence_chart.png\n";
   return 0;
@@ -253,7 +246,7 @@ int field(const Arguments& a, const Machine& m)
   std::filesystem::create_directories(a.out);
   const DefectField f = defectField(m.nominal, m.config.optics, m.defects, a.grid != 0 ? a.grid : 21);
   const std::string csv = a.out + "/defect_field.csv";
-  writeFile(csv, defectFieldCsv(f));
+  writeTextFile(csv, defectFieldCsv(f));
   double worst = 0.0;
   for (const Eigen::Vector2d& d : f.displacement_m)
     worst = std::max(worst, d.norm());
