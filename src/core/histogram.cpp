@@ -16,15 +16,6 @@ namespace
 constexpr int kMaxBins = 1 << 24;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string yamlNumber(double v)
-{
-  if (std::isnan(v))
-    return ".nan";
-  if (std::isinf(v))
-    return v > 0 ? ".inf" : "-.inf";
-  return fullPrecisionText(v);
-}
-
 }  // namespace
 
 Histogram::Histogram(double lo, double hi, int bins)

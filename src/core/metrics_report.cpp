@@ -16,35 +16,24 @@ std::string stats(const CornerPathStats& s)
   return "{min_speed_mps: " + fullPrecisionText(s.min_speed_mps) + ", max_contour_error_m: " + fullPrecisionText(s.max_contour_error_m) + "}";
 }
 
-/// Full precision, +infinity as YAML's .inf ("none": no speed cap, no mark to measure against).
-std::string numberOrInfinity(double value)
-{
-  return std::isinf(value) && value > 0.0 ? std::string(".inf") : fullPrecisionText(value);
-}
-
-/// NaN as YAML's .nan (an empty statistic), else full precision.
-std::string number(double value)
-{
-  return std::isnan(value) ? std::string(".nan") : numberOrInfinity(value);
-}
 
 std::string errorStats(const ContourErrorStats& s)
 {
   std::string bins;
   for (std::size_t i = 0; i <= ContourErrorStats::kBins; ++i)
     bins += (i > 0 ? ", " : "") + std::to_string(s.binCount(i));
-  return "{points: " + std::to_string(s.count()) + ", share_under_10um: " + number(s.shareUnder(10e-6)) +
-         ", share_under_20um: " + number(s.shareUnder(20e-6)) + ", share_under_30um: " + number(s.shareUnder(30e-6)) +
-         ", mean_m: " + number(s.mean()) + ", p99_m: " + number(s.quantileUpperBound(0.99)) +
-         ", max_m: " + number(s.max()) + ", counts_1um: [" + bins + "]}";
+  return "{points: " + std::to_string(s.count()) + ", share_under_10um: " + yamlNumber(s.shareUnder(10e-6)) +
+         ", share_under_20um: " + yamlNumber(s.shareUnder(20e-6)) + ", share_under_30um: " + yamlNumber(s.shareUnder(30e-6)) +
+         ", mean_m: " + yamlNumber(s.mean()) + ", p99_m: " + yamlNumber(s.quantileUpperBound(0.99)) +
+         ", max_m: " + yamlNumber(s.max()) + ", counts_1um: [" + bins + "]}";
 }
 
 /// One definition: the shares over every marked point, then the split by kind of point.
 std::string errorSplit(const ContourErrorSplit& s, const std::string& indent)
 {
-  return indent + "share_under_10um: " + number(s.mark.shareUnder(10e-6)) + "\n" + indent +
-         "share_under_20um: " + number(s.mark.shareUnder(20e-6)) + "\n" + indent +
-         "share_under_30um: " + number(s.mark.shareUnder(30e-6)) + "\n" + indent + "mark: " + errorStats(s.mark) +
+  return indent + "share_under_10um: " + yamlNumber(s.mark.shareUnder(10e-6)) + "\n" + indent +
+         "share_under_20um: " + yamlNumber(s.mark.shareUnder(20e-6)) + "\n" + indent +
+         "share_under_30um: " + yamlNumber(s.mark.shareUnder(30e-6)) + "\n" + indent + "mark: " + errorStats(s.mark) +
          "\n" + indent + "contour: " + errorStats(s.contour) + "\n" + indent + "hatch: " + errorStats(s.hatch) +
          "\n" + indent + "jump: " + errorStats(s.jump) + "\n";
 }
@@ -67,7 +56,7 @@ std::string qualityYaml(const LayerQualityReport& q)
   {
     out += "  nearest_path: null  # not measured: more samples than energy.contour_max_samples\n";
   }
-  out += "fill_rate: " + number(q.fill_rate) + "  # THESIS §2.6: hatch cells of pitch = spot diameter reached\n";
+  out += "fill_rate: " + yamlNumber(q.fill_rate) + "  # THESIS §2.6: hatch cells of pitch = spot diameter reached\n";
   out += "fill: {pitch_m: " + fullPrecisionText(q.fill_pitch_m) + ", cells_to_fill: " + std::to_string(q.fill_cells_to_fill) +
          ", cells_reached: " + std::to_string(q.fill_cells_reached) +
          ", points_outside: " + std::to_string(q.fill_points_outside) + "}\n";
@@ -75,8 +64,8 @@ std::string qualityYaml(const LayerQualityReport& q)
   out += "  x:\n" + histogramYaml(q.angle_error_x, "    ", 1e6, "urad");
   out += "  y:\n" + histogramYaml(q.angle_error_y, "    ", 1e6, "urad");
   out += "speed_profile:  # actual speed / programmed speed, laser-on mark samples\n";
-  out += "  mean_ratio: " + number(q.mark_speed_mean_ratio) + "\n";
-  out += "  share_below_90pct: " + number(q.mark_speed_ratio.fractionBelow(0.9)) + "\n";
+  out += "  mean_ratio: " + yamlNumber(q.mark_speed_mean_ratio) + "\n";
+  out += "  share_below_90pct: " + yamlNumber(q.mark_speed_ratio.fractionBelow(0.9)) + "\n";
   out += "  ratio:\n" + histogramYaml(q.mark_speed_ratio, "    ", 1.0, "1");
   return out;
 }
@@ -131,7 +120,7 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "nc: {capped_polylines: " << m.nc_program.capped_polylines << ", delay_holds: " << m.nc_program.delay_holds
       << ", polygon_holds: " << m.nc_program.polygon_holds << ", skywritten_corners: " << m.nc_program.skywritten_corners
       << ", added_time_s: " << fullPrecisionText(m.nc_program.added_time_s)
-      << ", speed_cap_mps: " << numberOrInfinity(m.nc_speed_cap_mps)
+      << ", speed_cap_mps: " << yamlNumber(m.nc_speed_cap_mps)
       << ", filter_delay_s: " << fullPrecisionText(m.nc_filter_delay_s) << ", t1_s: " << fullPrecisionText(m.nc_t1_s)
       << ", t2_s: " << fullPrecisionText(m.nc_t2_s) << "}\n";
   out << "laser_early_samples: " << m.laser_early_samples << "\n";
@@ -139,7 +128,7 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "laser_misplaced_energy_j: " << fullPrecisionText(m.laser_misplaced_energy_j) << "\n";
   out << "laser_off_path_samples: " << m.laser_off_path_samples << "\n";
   out << "laser_max_off_path_m: "
-      << numberOrInfinity(m.laser_max_off_path_m) << "\n";
+      << yamlNumber(m.laser_max_off_path_m) << "\n";
   if (m.track_measured)
   {
     out << "track_energy: {median_jpm2: " << fullPrecisionText(m.track_median_jpm2)

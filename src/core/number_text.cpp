@@ -37,6 +37,15 @@ std::string fullPrecisionText(double value)
   return buffer;
 }
 
+std::string yamlNumber(double value)
+{
+  if (std::isnan(value))
+    return ".nan";
+  if (std::isinf(value))
+    return value > 0 ? ".inf" : "-.inf";
+  return fullPrecisionText(value);
+}
+
 std::string yamlQuoted(const std::string& text)
 {
   std::string out = "\"";

@@ -183,11 +183,10 @@ std::string comparisonTable(const RunComparison& c)
 
 std::string comparisonYaml(const RunComparison& c)
 {
-  auto number = [](double v) { return std::isnan(v) ? std::string(".nan") : fullPrecisionText(v); };
   std::string out = "runs: [" + yamlQuoted(c.name_a) + ", " + yamlQuoted(c.name_b) + "]\nrows:\n";
   for (const ComparisonRow& r : c.rows)
-    out += "  - {key: " + r.key + ", label: " + yamlQuoted(r.label) + ", unit: " + yamlQuoted(r.unit) + ", a: " + number(r.a) +
-           ", b: " + number(r.b) + ", better: " +
+    out += "  - {key: " + r.key + ", label: " + yamlQuoted(r.label) + ", unit: " + yamlQuoted(r.unit) + ", a: " + yamlNumber(r.a) +
+           ", b: " + yamlNumber(r.b) + ", better: " +
            (r.better == Better::Lower ? "lower" : r.better == Better::Higher ? "higher" : "none") + "}\n";
   return out;
 }
