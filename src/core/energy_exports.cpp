@@ -1,13 +1,12 @@
 /// \file energy_exports.cpp
 #include "scanhead/core/energy_exports.hpp"
+#include "scanhead/core/text_file.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
 #include "scanhead/core/colour_map.hpp"
-#include "scanhead/core/errors.hpp"
 #include "scanhead/core/number_text.hpp"
 #include "scanhead/core/png_writer.hpp"
 #include "scanhead/core/tiff_writer.hpp"
@@ -20,13 +19,6 @@ namespace
 {
 constexpr int kColourSide = 2000;  // px; larger crops are shown by block maxima
 
-void writeText(const fs::path& path, const std::string& text)
-{
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out.good())
-    throw InputError(path.string() + ": cannot write");
-}
 
 }  // namespace
 
@@ -50,7 +42,7 @@ double writeFieldImages(const std::string& dir_text, const std::string& stem, co
   tiff.y_top_m = map.origin().y() + map.pixel() * map.height();
   tiff.description = units.quantity + ", " + description + ", pixel " + fullPrecisionText(map.pixel()) + " m";
   writeFloatTiff((dir / (stem + ".tiff")).string(), map.width(), map.height(), top_down.data(), tiff);
-  writeText(dir / (stem + ".yaml"),
+  writeTextFile(dir / (stem + ".yaml"),
             "# " + description + "\n"
             "# values: " + units.quantity + "\n"
             "# " + stem + "_16bit.png: value = pixel / 65535 * " + units.scale_key + ", row 0 = top (+y up)\n"
@@ -68,7 +60,7 @@ void writeEnergyExports(const std::string& dir_text, const TiledEnergyMap& map, 
 {
   const fs::path dir(dir_text);
   const int factor = map.overviewFactor(kOverviewSide);
-  const EnergyMap overview = factor == 1 ? map.toDense() : map.overview(factor);
+  const EnergyMap overview = map.overview(factor);
   writeFieldImages(dir.string(), "energy_map", overview,
                     factor == 1 ? "the whole map at full resolution"
                                 : "overview: means of " + std::to_string(factor) + " x " + std::to_string(factor) +
@@ -89,8 +81,6 @@ void writeEnergyExports(const std::string& dir_text, const TiledEnergyMap& map, 
     const auto row0 = static_cast<std::int64_t>(std::floor((crop.min_corner.y() - map.origin().y()) / p));
     const auto col1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.x() - map.origin().x()) / p));
     const auto row1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.y() - map.origin().y()) / p));
-    if (col1 <= 0 || row1 <= 0 || col0 >= map.width() || row0 >= map.height())
-      throw ConfigError("energy.crop_regions: region " + crop.name + " lies outside the energy map");
     const int factor = TiledEnergyMap::blockFactor(col1 - col0, row1 - row0, kCropSide);
     writeFieldImages((dir / "crops").string(), crop.name, map.region(col0, row0, col1 - col0, row1 - row0, factor),
                      factor == 1 ? crop.name + " at full resolution"

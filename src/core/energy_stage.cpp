@@ -4,6 +4,7 @@
 #include <future>
 
 #include "scanhead/core/galvo_servo.hpp"
+#include "scanhead/core/map_regions.hpp"
 #include "scanhead/core/track_energy.hpp"
 
 namespace scanhead
@@ -25,17 +26,16 @@ double servoDelay(const ChainConfig& config)
   return GalvoServo(config.servo, config.nc.period_s).lowFrequencyDelay().maxCoeff();
 }
 
-CornerTracker makeCornerTracker(const ChainConfig& config, const NcInterpolator& nc)
+CornerTracker makeCornerTracker(const ChainConfig& config, const NcInterpolator& nc, double actual_delay_s)
 {
-  const double filter_delay = nc.stats().filter_delay_s;
   return CornerTracker(findCorners(nc.program().timeline, config.energy.corner_min_angle_deg * M_PI / 180.0),
-                       filter_delay, filter_delay + servoDelay(config));
+                       nc.stats().filter_delay_s, actual_delay_s);
 }
 
-LayerQuality makeLayerQuality(const ChainConfig& config, const Job& job, const NcInterpolator& nc)
+LayerQuality makeLayerQuality(const ChainConfig& config, const Job& job, const NcInterpolator& nc,
+                              double actual_delay_s)
 {
-  const double lag = config.energy.contour_lag_s >= 0.0 ? config.energy.contour_lag_s
-                                                        : nc.stats().filter_delay_s + servoDelay(config);
+  const double lag = config.energy.contour_lag_s >= 0.0 ? config.energy.contour_lag_s : actual_delay_s;
   Eigen::Vector2d lo, hi;
   jobMapBounds(job, config.energy.map_margin_m, lo, hi);
   return LayerQuality(config.energy, nc.program().timeline, job, lag, nc.totalSamples(), lo, hi);
@@ -59,14 +59,20 @@ void jobMapBounds(const Job& job, double margin_m, Eigen::Vector2d& min_corner, 
 EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcInterpolator& nc)
   : config_(config)
   , job_name_(job.name)
+  , actual_delay_s_(nc.stats().filter_delay_s + servoDelay(config))
   , accumulator_(makeAccumulator(config, job))
-  , corners_(makeCornerTracker(config, nc))
+  , corners_(makeCornerTracker(config, nc, actual_delay_s_))
   , settling_(nc.program(), nc.stats().gate_shift_s, nc.stats().filter_delay_s, config.energy.laser_path_tolerance_m)
   , placement_(job, config.energy.laser_path_tolerance_m)
   , trace_(nc.totalSamples(), kMaxTraceRows)
   , nc_stats_(nc.stats())
-  , quality_(makeLayerQuality(config, job, nc))
+  , quality_(makeLayerQuality(config, job, nc, actual_delay_s_))
 {
+  // A crop that misses the map is a setting error: said now, not after the run.
+  const TiledEnergyMap& map = accumulator_.map();
+  requireRegionsOnMap(parseMapRegions(config.energy.crop_regions), map.origin(),
+                      map.origin() + map.pixel() * Eigen::Vector2d(static_cast<double>(map.width()),
+                                                                   static_cast<double>(map.height())));
   if (config.thermal.enabled)
     thermal_ = std::make_unique<ThermalLayer>(config.thermal.model);
   for (const Polyline& line : job.polylines)

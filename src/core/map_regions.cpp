@@ -95,4 +95,14 @@ std::vector<MapRegion> parseMapRegions(const std::string& text)
   }
   return regions;
 }
+
+void requireRegionsOnMap(const std::vector<MapRegion>& regions, const Eigen::Vector2d& min_corner,
+                         const Eigen::Vector2d& max_corner)
+{
+  for (const MapRegion& r : regions)
+    if ((r.max_corner.array() <= min_corner.array()).any() || (r.min_corner.array() >= max_corner.array()).any())
+      throw ConfigError("energy.crop_regions: region " + r.name + " lies outside the energy map (x " +
+                        fullPrecisionText(min_corner.x()) + " to " + fullPrecisionText(max_corner.x()) + " m, y " +
+                        fullPrecisionText(min_corner.y()) + " to " + fullPrecisionText(max_corner.y()) + " m)");
+}
 }  // namespace scanhead

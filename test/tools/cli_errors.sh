@@ -49,6 +49,7 @@ expect_error bad_argument "unknown argument '--jbo'" --jbo corner
 # Issue 7's settings: named before the run starts, never after it.
 expect_error bad_crop "energy.crop_regions: '0,0,1' is not x0,y0,x1,y1[,name]" --set energy.crop_regions=0,0,1
 expect_error bad_defocus "energy.defocus_mode must be none, fixed or field (got 'sphere')" --set energy.defocus_mode=sphere
+expect_error crop_off_map "region far lies outside the energy map" --set "energy.crop_regions=0.1,0.1,0.11,0.11,far"
 expect_error bad_window "energy.same_instant_window_s must be in [0, 0.01] s" --set energy.same_instant_window_s=-1
 expect_error bad_thermal "thermal.cell_m must be > 0" --set thermal.enabled=true --set thermal.cell_m=0
 expect_error bad_spill "cannot create the tile spill file" --job squares:rows=1,columns=1 --set energy.tile_cache_bytes=1048576 \

@@ -49,6 +49,7 @@ private:
 
   ChainConfig config_;
   std::string job_name_;
+  double actual_delay_s_;  ///< the actual path behind the ideal timeline: filter + servo delay [s]
   EnergyAccumulator accumulator_;
   CornerTracker corners_;
   LaserSettlingCheck settling_;

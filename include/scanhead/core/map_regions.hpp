@@ -27,4 +27,9 @@ std::vector<MapRegion> jobParts(const Job& job, double margin_m);
 /// \brief Regions from text "x0,y0,x1,y1[,name];…" [m] (energy.crop_regions); "" gives none.
 /// \throws ConfigError naming energy.crop_regions and the bad entry
 std::vector<MapRegion> parseMapRegions(const std::string& text);
+
+/// \brief Checks that every region meets the map [min_corner, max_corner].
+/// \throws ConfigError naming energy.crop_regions and the region that lies outside
+void requireRegionsOnMap(const std::vector<MapRegion>& regions, const Eigen::Vector2d& min_corner,
+                         const Eigen::Vector2d& max_corner);
 }  // namespace scanhead

@@ -50,7 +50,7 @@ struct RunMetrics
   double laser_misplaced_energy_j = 0.0;  ///< Σ P·Ts of the early and late samples [J]
   std::uint64_t laser_off_path_samples = 0;  ///< laser on, spot farther than the tolerance from every mark
   double laser_max_off_path_m = 0.0;      ///< largest distance of a laser-on spot to the marks [m]
-  bool track_measured = false;            ///< false: more laser-on samples than energy.track_max_samples
+  bool track_measured = false;            ///< false: no laser-on sample away from the marks' ends
   double track_median_jpm2 = 0.0;         ///< straight-track level: median E along the tracks [J/m²]
   double track_peak_jpm2 = 0.0;           ///< max E along the tracks, ends excluded [J/m²]
   double track_peak_to_median = 0.0;      ///< corner peak relative to the straight-track level
