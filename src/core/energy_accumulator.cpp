@@ -249,15 +249,15 @@ void EnergyAccumulator::depositPoint(double cx, double cy, double energy_j, cons
   // table P_k = E_k^(t − H) updated row by row (one multiply a pixel, no exponential per row).
   gaussianWeights(dyc, fp.qyy, p, std::exp(-2.0 * fp.qyy * p * p), h, rows, gy_.data());
   gaussianWeights(dxc + fp.qxy / fp.qxx * dyc, fp.qxx, p, std::exp(-2.0 * fp.qxx * p * p), h, cols, gx_.data());
-  prefix_[0] = 0.0;
-  for (int k = 0; k < cols; ++k)
-  {
-    prefix_[static_cast<std::size_t>(k) + 1] = prefix_[static_cast<std::size_t>(k)] + gx_[static_cast<std::size_t>(k)];
-    if (separable)
-      gxf_[static_cast<std::size_t>(k)] = static_cast<float>(gx_[static_cast<std::size_t>(k)]);
-  }
   if (separable)
   {
+    // One row of weights for the whole stencil, and its prefix sums for the rows' totals.
+    prefix_[0] = 0.0;
+    for (int k = 0; k < cols; ++k)
+    {
+      prefix_[static_cast<std::size_t>(k) + 1] = prefix_[static_cast<std::size_t>(k)] + gx_[static_cast<std::size_t>(k)];
+      gxf_[static_cast<std::size_t>(k)] = static_cast<float>(gx_[static_cast<std::size_t>(k)]);
+    }
     for (int t = 0; t < rows; ++t)
     {
       int lo = 0, hi = 0;

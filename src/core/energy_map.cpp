@@ -56,6 +56,11 @@ void axpyRow(float* y, const float* x, float c, int n)
   }
 }
 
+double pixelsAcross(double extent_m, double pixel_m)
+{
+  return std::max(1.0, std::ceil(extent_m / pixel_m - 1e-9));
+}
+
 void checkMapGeometry(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m)
 {
   if (!(pixel_m > 0.0) || !std::isfinite(pixel_m))
@@ -80,9 +85,8 @@ EnergyMap::EnergyMap(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& m
   : origin_(min_corner), pixel_(pixel_m), width_(0), height_(0)
 {
   checkMapGeometry(min_corner, max_corner, pixel_m);
-  // ceil with a 1e-9 pixel tolerance: a 100 µm box at 1 µm is 100 pixels, not 101 by rounding.
-  const double w = std::max(1.0, std::ceil((max_corner.x() - min_corner.x()) / pixel_m - 1e-9));
-  const double h = std::max(1.0, std::ceil((max_corner.y() - min_corner.y()) / pixel_m - 1e-9));
+  const double w = pixelsAcross(max_corner.x() - min_corner.x(), pixel_m);
+  const double h = pixelsAcross(max_corner.y() - min_corner.y(), pixel_m);
   if (w * h > kMaxPixels)
   {
     std::ostringstream msg;

@@ -21,12 +21,6 @@ constexpr std::int64_t kTilePixels = static_cast<std::int64_t>(TiledEnergyMap::k
 constexpr std::size_t kTileBytes = static_cast<std::size_t>(kTilePixels) * sizeof(float);
 constexpr std::size_t kMinResidentTiles = 16;
 
-std::int64_t pixelsAcross(double extent_m, double pixel_m)
-{
-  // ceil with a 1e-9 pixel tolerance, as EnergyMap: a 100 µm box at 1 µm is 100 pixels.
-  return static_cast<std::int64_t>(std::max(1.0, std::ceil(extent_m / pixel_m - 1e-9)));
-}
-
 std::string ioError(const std::string& what, const std::string& dir)
 {
   return "energy map: cannot " + what + " the tile spill file in " + dir + " (" + std::strerror(errno) +
@@ -46,8 +40,8 @@ TiledEnergyMap::TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::V
     msg << "energy.pixel_m = " << pixel_m << " m is too fine for a " << extent << " m map (over 1e9 pixels a side)";
     throw ConfigError(msg.str());
   }
-  width_ = pixelsAcross(max_corner.x() - min_corner.x(), pixel_m);
-  height_ = pixelsAcross(max_corner.y() - min_corner.y(), pixel_m);
+  width_ = static_cast<std::int64_t>(pixelsAcross(max_corner.x() - min_corner.x(), pixel_m));
+  height_ = static_cast<std::int64_t>(pixelsAcross(max_corner.y() - min_corner.y(), pixel_m));
   tiles_x_ = (width_ + kTileSide - 1) / kTileSide;
   tiles_y_ = (height_ + kTileSide - 1) / kTileSide;
   if (static_cast<double>(tiles_x_) * static_cast<double>(tiles_y_) > 2147483647.0)
@@ -59,7 +53,6 @@ TiledEnergyMap::TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::V
   }
   max_resident_ = std::max(kMinResidentTiles, cache_bytes / kTileBytes);
   slot_of_tile_.assign(static_cast<std::size_t>(tiles_x_ * tiles_y_), -1);
-  peak_resident_ = 0;
 }
 
 TiledEnergyMap::~TiledEnergyMap()
@@ -156,10 +149,15 @@ void TiledEnergyMap::load(Slot& slot) const
   slot.data = free_buffers_.back();
   free_buffers_.pop_back();
   ++resident_;
-  const ssize_t n = ::pread(spill_fd_, slot.data, kTileBytes, slot.file_offset);
+  readSpilled(slot, slot.data);
+  slot.dirty = false;
+}
+
+void TiledEnergyMap::readSpilled(const Slot& slot, float* to) const
+{
+  const ssize_t n = ::pread(spill_fd_, to, kTileBytes, slot.file_offset);
   if (n != static_cast<ssize_t>(kTileBytes))
     throw InputError(ioError("read", spillDir()));
-  slot.dirty = false;
 }
 
 void TiledEnergyMap::makeRoom() const
@@ -205,7 +203,6 @@ float* TiledEnergyMap::residentTile(std::int64_t tile) const
   {
     makeRoom();
     Slot slot;
-    slot.tile = tile;
     slot.data = free_buffers_.back();
     free_buffers_.pop_back();
     std::fill(slot.data, slot.data + kTilePixels, 0.0f);
@@ -232,9 +229,7 @@ const float* TiledEnergyMap::tileForRead(std::int64_t tile, float* scratch) cons
   const Slot& slot = slots_[static_cast<std::size_t>(index)];
   if (slot.data != nullptr)
     return slot.data;
-  const ssize_t n = ::pread(spill_fd_, scratch, kTileBytes, slot.file_offset);
-  if (n != static_cast<ssize_t>(kTileBytes))
-    throw InputError(ioError("read", spillDir()));
+  readSpilled(slot, scratch);
   return scratch;
 }
 

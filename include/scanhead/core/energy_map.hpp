@@ -44,6 +44,10 @@ private:
 /// GCC/Clang vector extensions; the order of operations per element is fixed (bit-reproducible).
 void axpyRow(float* y, const float* x, float c, int n);
 
+/// \brief Pixels across an extent: max(1, ⌈extent/pixel⌉) with a 1e-9 pixel tolerance (a 100 µm box
+/// at 1 µm is 100 pixels, not 101 by rounding), for dense and tiled maps alike.
+double pixelsAcross(double extent_m, double pixel_m);
+
 /// \brief The checks of a map's geometry, dense or tiled.
 /// \throws ConfigError if pixel_m is not finite and > 0 (names energy.pixel_m)
 /// \throws InputError if the corners are not finite or max < min

@@ -84,7 +84,6 @@ public:
 private:
   struct Slot
   {
-    std::int64_t tile = 0;        ///< tile index tj·tiles_x + ti
     std::int64_t file_offset = -1;  ///< where the tile lives in the spill file (-1: never spilled)
     std::uint64_t last_use = 0;
     float* data = nullptr;        ///< resident buffer, or nullptr when spilled
@@ -98,6 +97,7 @@ private:
   std::string spillDir() const;  ///< energy.spill_dir, else $TMPDIR, else /tmp
   void spill(Slot& slot) const;
   void load(Slot& slot) const;
+  void readSpilled(const Slot& slot, float* to) const;
 
   Eigen::Vector2d origin_;
   double pixel_ = 0.0;
