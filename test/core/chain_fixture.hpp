@@ -10,6 +10,7 @@
 #include "scanhead/core/config_io.hpp"
 #include "scanhead/core/job_files.hpp"
 #include "scanhead/core/job_io.hpp"
+#include "scanhead/core/results_writer.hpp"
 
 namespace scanhead::test_support
 {
@@ -23,8 +24,10 @@ struct ChainRun
   double job_time_s = 0.0; ///< NC program duration [s]
 };
 
-/// \brief Runs \p job_spec (built-in or file) with config/scanhead.yaml and \p overrides.
-inline ChainRun runJob(const std::string& job_spec, const std::vector<std::string>& overrides)
+/// \brief Runs \p job_spec (built-in or file) with config/scanhead.yaml and \p overrides; writes
+/// its results folder (no plots) into \p results_dir unless it is empty.
+inline ChainRun runJob(const std::string& job_spec, const std::vector<std::string>& overrides,
+                       const std::string& results_dir = "")
 {
   const ChainConfig config = loadChainConfig(kConfig, overrides);
   const OpticalModel optics = loadOpticalModel(config.optics);
@@ -36,6 +39,8 @@ inline ChainRun runJob(const std::string& job_spec, const std::vector<std::strin
   run.map = chain.energy().map().toDense().data();
   run.nc = chain.nc().stats();
   run.job_time_s = chain.nc().pathDuration();
+  if (!results_dir.empty())
+    writeResultsFolder(results_dir, run.metrics, chain.energy(), config, job);
   return run;
 }
 }  // namespace scanhead::test_support

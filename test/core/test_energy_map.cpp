@@ -38,10 +38,7 @@ void feed(EnergyAccumulator& acc, const Stream& s, std::size_t chunk)
 Stream straightTrack(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double v, double power)
 {
   Stream s;
-  const double length = (b - a).norm();
-  const int n = static_cast<int>(std::round(length / (v * kTs)));
-  for (int k = 0; k <= n; ++k)
-    s.add(a + (b - a) * (double(k) / n), power);
+  s.line(a, b, v, power);
   return s;
 }
 

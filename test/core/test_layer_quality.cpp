@@ -99,9 +99,12 @@ LayerQualityReport run(const PathTimeline& timeline, const Job& job, const Strea
   return q.finish();
 }
 
-bool same(const ContourErrorStats& a, const ContourErrorStats& b)
+/// The default settings with the same-instant search half-width \p window_s.
+EnergyConfig sameInstantWindow(double window_s)
 {
-  return a == b;
+  EnergyConfig config;
+  config.same_instant_window_s = window_s;
+  return config;
 }
 }  // namespace
 
@@ -144,8 +147,7 @@ TEST(LayerQuality, SameInstantNeedsTheLagOrItsWindow)
   const Job job = squareJob();
   const PathTimeline timeline(job, 4.0);
   const Stream s = delayedStream(timeline, 20, Eigen::Vector2d::Zero());
-  EnergyConfig strict;
-  strict.same_instant_window_s = 0.0;
+  const EnergyConfig strict = sameInstantWindow(0.0);
   const LayerQualityReport r = run(timeline, job, s, 0.0, 1000, strict);
   EXPECT_NEAR(r.same_instant.contour.quantileUpperBound(0.5), 190e-6, 1e-6);
   EXPECT_LT(r.nearest_path.contour.max(), 1e-8);
@@ -153,9 +155,8 @@ TEST(LayerQuality, SameInstantNeedsTheLagOrItsWindow)
   const LayerQualityReport wide = run(timeline, job, s, 0.0, 1000);  // default ±200 µs = ±20 samples
   EXPECT_DOUBLE_EQ(wide.window_s, 200e-6);
   EXPECT_LT(wide.same_instant.contour.quantileUpperBound(0.9), 1e-6);
-  EnergyConfig narrow;
-  narrow.same_instant_window_s = 150e-6;  // 15 of the 20 samples: 5 left, 50 µm − 10 µm = 40 µm
-  const LayerQualityReport part = run(timeline, job, s, 0.0, 1000, narrow);
+  // 15 of the 20 samples: 5 left, 50 µm − 10 µm = 40 µm
+  const LayerQualityReport part = run(timeline, job, s, 0.0, 1000, sameInstantWindow(150e-6));
   EXPECT_NEAR(part.same_instant.contour.quantileUpperBound(0.5), 40e-6, 1e-6);
 }
 
@@ -196,8 +197,8 @@ TEST(LayerQuality, NearestPathMatchesBruteForceAndChunking)
   for (std::size_t chunk : { 1u, 7u })
   {
     const LayerQualityReport other = run(timeline, job, s, 13 * kTs, chunk);
-    EXPECT_TRUE(same(other.same_instant.mark, r.same_instant.mark)) << "chunk " << chunk;
-    EXPECT_TRUE(same(other.nearest_path.mark, r.nearest_path.mark)) << "chunk " << chunk;
+    EXPECT_TRUE(other.same_instant.mark == r.same_instant.mark) << "chunk " << chunk;
+    EXPECT_TRUE(other.nearest_path.mark == r.nearest_path.mark) << "chunk " << chunk;
     EXPECT_EQ(other.fill_cells_reached, r.fill_cells_reached);
     EXPECT_EQ(other.mark_speed_ratio.binCounts(), r.mark_speed_ratio.binCounts());
   }
@@ -211,8 +212,7 @@ TEST(LayerQuality, GapsAreCountedNotHidden)
   const Job job = squareJob();
   const PathTimeline timeline(job, 4.0);
   const Stream s = delayedStream(timeline, 10, Eigen::Vector2d::Zero());
-  EnergyConfig strict;
-  strict.same_instant_window_s = 0.0;
+  const EnergyConfig strict = sameInstantWindow(0.0);
   for (const EnergyConfig& config : { EnergyConfig(), strict })
   {
     const LayerQualityReport r = run(timeline, job, s, 10 * kTs, 1000, config, 300, 400);

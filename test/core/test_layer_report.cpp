@@ -34,16 +34,10 @@ struct Written
 /// Runs a job through the batch chain and writes its results folder (no plots: fast).
 Written runAndWrite(const std::string& spec, const std::vector<std::string>& overrides, const std::string& name)
 {
-  const ChainConfig config = loadChainConfig(kConfig, overrides);
-  const OpticalModel optics = loadOpticalModel(config.optics);
-  const Job job = loadJob(spec, config.cam);
-  validateScanJob(job, config.optics.field_half_width_m);
-  BatchChain chain(config, optics);
   Written w;
-  w.metrics = chain.run(job);
   w.dir = fs::temp_directory_path() / ("scanhead_layer_report_" + name);
   fs::remove_all(w.dir);
-  writeResultsFolder(w.dir.string(), w.metrics, chain.energy(), config, job);
+  w.metrics = test_support::runJob(spec, overrides, w.dir.string()).metrics;
   return w;
 }
 }  // namespace
