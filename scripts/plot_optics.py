@@ -4,7 +4,7 @@
 usage: plot_optics.py influence INFLUENCE.yaml OUT.png
        plot_optics.py field FIELD.csv OUT.png [--title TEXT]
 
-influence: the table written by influenceYaml() (include/scanhead/core/influence_map.hpp): for
+influence: the table written by influenceYaml() (include/scanhead/optics/influence_map.hpp): for
   each of the 30 defects alone (1 mm or 1 mrad), the global shift |I(O_p)| and the non-linear part
   max |I - I(O_p)| over the field, positions on the left, orientations on the right, log scale
   (the window tilts are ~1000x smaller than the rest).

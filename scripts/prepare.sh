@@ -1,7 +1,8 @@
 # Sourced by run_virtual_machine.sh and run_tests.sh (from the repository root): installs what is
 # missing, builds, and sets up the ROS environment on loopback.
 scripts/install_deps.sh
-scripts/build.sh
+# SCANHEAD_CMAKE_ARGS: extra CMake options (run_tests.sh asks for the benchmarks and fuzzers).
+scripts/build.sh ${SCANHEAD_CMAKE_ARGS:-}
 set +u  # colcon's setup scripts read unset variables
 . install/setup.sh
 set -u

@@ -1,6 +1,6 @@
 #include "bag_source_ros.hpp"
 
-#include "scanhead/core/errors.hpp"
+#include "scanhead/common/errors.hpp"
 
 namespace scanhead
 {

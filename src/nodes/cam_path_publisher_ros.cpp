@@ -2,8 +2,8 @@
 
 #include "ros_config.hpp"
 #include "ros_conversions.hpp"
-#include "scanhead/core/job_files.hpp"
-#include "scanhead/core/job_io.hpp"
+#include "scanhead/job/job_files.hpp"
+#include "scanhead/job/formats/job_io.hpp"
 
 namespace scanhead
 {

@@ -5,7 +5,7 @@
 #include <ros/ros.h>
 #include <std_msgs/String.h>
 
-#include "scanhead/core/chain_config.hpp"
+#include "scanhead/chain/chain_config.hpp"
 
 namespace scanhead
 {

@@ -6,8 +6,8 @@
 #include "ros_config.hpp"
 #include "ros_energy_views.hpp"
 #include "ros_conversions.hpp"
-#include "scanhead/core/metrics_report.hpp"
-#include "scanhead/core/results_writer.hpp"
+#include "scanhead/metrics/metrics_report.hpp"
+#include "scanhead/chain/results_writer.hpp"
 
 namespace scanhead
 {

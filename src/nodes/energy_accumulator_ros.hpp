@@ -12,8 +12,8 @@
 #include <map>
 #include <memory>
 
-#include "scanhead/core/chain_config.hpp"
-#include "scanhead/core/energy_stage.hpp"
+#include "scanhead/chain/chain_config.hpp"
+#include "scanhead/chain/energy_stage.hpp"
 
 namespace scanhead
 {

@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "ros_chunk_outlet.hpp"
-#include "scanhead/core/galvo_servo.hpp"
+#include "scanhead/servo/galvo_servo.hpp"
 
 namespace scanhead
 {

@@ -1,10 +1,10 @@
 #include "nc_interpolator_ros.hpp"
 
-#include "scanhead/core/metrics_report.hpp"
+#include "scanhead/metrics/metrics_report.hpp"
 
 #include "ros_config.hpp"
 #include "ros_conversions.hpp"
-#include "scanhead/core/job_io.hpp"
+#include "scanhead/job/formats/job_io.hpp"
 
 namespace scanhead
 {

@@ -14,8 +14,8 @@
 
 #include "ros_chunk_outlet.hpp"
 #include "ros_flow_window.hpp"
-#include "scanhead/core/chain_config.hpp"
-#include "scanhead/core/nc_interpolator.hpp"
+#include "scanhead/chain/chain_config.hpp"
+#include "scanhead/nc/nc_interpolator.hpp"
 
 namespace scanhead
 {

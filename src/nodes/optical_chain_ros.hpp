@@ -13,7 +13,7 @@
 #include <memory>
 
 #include "ros_chunk_outlet.hpp"
-#include "scanhead/core/optical_chain_stage.hpp"
+#include "scanhead/optics/optical_chain_stage.hpp"
 
 namespace scanhead
 {

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/config_io.hpp"
-#include "scanhead/core/errors.hpp"
-#include "scanhead/core/number_text.hpp"
+#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
 
 namespace scanhead
 {

@@ -14,7 +14,7 @@
 #include <ostream>
 #include <vector>
 
-#include "scanhead/core/contour_error.hpp"
+#include "scanhead/metrics/contour_error.hpp"
 
 namespace scanhead
 {

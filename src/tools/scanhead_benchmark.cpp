@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/job_files.hpp"
-#include "scanhead/core/config_io.hpp"
-#include "scanhead/core/correction_table.hpp"
-#include "scanhead/core/job_io.hpp"
+#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/job/job_files.hpp"
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/optics/correction_table.hpp"
+#include "scanhead/job/formats/job_io.hpp"
 #include "benchmark_contour_error.hpp"
 #include "process_memory.hpp"
 

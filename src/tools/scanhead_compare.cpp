@@ -4,10 +4,10 @@
 #include <string>
 
 #include "argument_cursor.hpp"
-#include "scanhead/core/errors.hpp"
-#include "scanhead/core/text_file.hpp"
-#include "scanhead/core/results_writer.hpp"
-#include "scanhead/core/run_comparison.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/common/text_file.hpp"
+#include "scanhead/chain/results_writer.hpp"
+#include "scanhead/metrics/run_comparison.hpp"
 
 namespace
 {

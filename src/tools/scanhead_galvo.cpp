@@ -5,13 +5,13 @@
 #include <vector>
 
 #include "argument_cursor.hpp"
-#include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/config_io.hpp"
-#include "scanhead/core/errors.hpp"
-#include "scanhead/core/galvo_identification.hpp"
-#include "scanhead/core/km0_config.hpp"
-#include "scanhead/core/km0_report.hpp"
-#include "scanhead/core/loop_analysis.hpp"
+#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/servo/identification/galvo_identification.hpp"
+#include "scanhead/servo/km0/km0_config.hpp"
+#include "scanhead/servo/km0/km0_report.hpp"
+#include "scanhead/servo/loop_analysis.hpp"
 
 namespace
 {

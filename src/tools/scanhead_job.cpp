@@ -8,17 +8,17 @@
 #include <vector>
 
 #include "argument_cursor.hpp"
-#include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/text_file.hpp"
-#include "scanhead/core/builtin_jobs.hpp"
-#include "scanhead/core/cli_format.hpp"
-#include "scanhead/core/config_io.hpp"
-#include "scanhead/core/errors.hpp"
-#include "scanhead/core/job_files.hpp"
-#include "scanhead/core/job_io.hpp"
-#include "scanhead/core/job_picture.hpp"
-#include "scanhead/core/job_stats.hpp"
-#include "scanhead/core/segment_path.hpp"
+#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/common/text_file.hpp"
+#include "scanhead/job/generators/builtin_jobs.hpp"
+#include "scanhead/job/formats/cli_format.hpp"
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/job/job_files.hpp"
+#include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/report/job_picture.hpp"
+#include "scanhead/job/job_stats.hpp"
+#include "scanhead/job/formats/segment_path.hpp"
 
 namespace
 {

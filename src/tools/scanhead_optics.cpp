@@ -11,16 +11,16 @@
 #include <vector>
 
 #include "argument_cursor.hpp"
-#include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/text_file.hpp"
-#include "scanhead/core/calibration.hpp"
-#include "scanhead/core/config_io.hpp"
-#include "scanhead/core/correction_table.hpp"
-#include "scanhead/core/errors.hpp"
-#include "scanhead/core/influence_map.hpp"
-#include "scanhead/core/number_text.hpp"
-#include "scanhead/core/optical_defects.hpp"
-#include "scanhead/core/results_writer.hpp"
+#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/common/text_file.hpp"
+#include "scanhead/optics/calibration.hpp"
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/optics/correction_table.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/optics/influence_map.hpp"
+#include "scanhead/common/number_text.hpp"
+#include "scanhead/optics/optical_defects.hpp"
+#include "scanhead/chain/results_writer.hpp"
 
 namespace
 {

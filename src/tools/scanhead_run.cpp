@@ -6,14 +6,14 @@
 #include <vector>
 
 #include "argument_cursor.hpp"
-#include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/job_files.hpp"
-#include "scanhead/core/config_io.hpp"
-#include "scanhead/core/errors.hpp"
-#include "scanhead/core/job_io.hpp"
-#include "scanhead/core/job_stats.hpp"
-#include "scanhead/core/metrics_report.hpp"
-#include "scanhead/core/results_writer.hpp"
+#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/job/job_files.hpp"
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/job/job_stats.hpp"
+#include "scanhead/metrics/metrics_report.hpp"
+#include "scanhead/chain/results_writer.hpp"
 #include "process_memory.hpp"
 
 #include <chrono>

@@ -5,12 +5,12 @@
 #include <vector>
 
 #include "argument_cursor.hpp"
-#include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/config_io.hpp"
-#include "scanhead/core/correction_table.hpp"
-#include "scanhead/core/errors.hpp"
-#include "scanhead/core/number_text.hpp"
-#include "scanhead/core/optical_defects.hpp"
+#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/optics/correction_table.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
+#include "scanhead/optics/optical_defects.hpp"
 
 namespace
 {

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <string>
 
-#include "scanhead/core/errors.hpp"
-#include "scanhead/core/segment_path.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/job/formats/segment_path.hpp"
 
 namespace
 {

@@ -28,8 +28,8 @@ CXXFLAGS=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-re
 # Core sources each target needs (the reader and what it calls).
 sources_for() {
   case "$1" in
-    cli) echo "$ROOT"/src/core/cli_*.cpp "$ROOT/src/core/config_check.cpp" "$ROOT/src/core/number_text.cpp" ;;
-    segment) echo "$ROOT/src/core/segment_path.cpp" "$ROOT/src/core/config_check.cpp" "$ROOT/src/core/number_text.cpp" ;;
+    cli) echo "$ROOT"/src/job/formats/cli_*.cpp "$ROOT/src/common/config_check.cpp" "$ROOT/src/common/number_text.cpp" ;;
+    segment) echo "$ROOT/src/job/formats/segment_path.cpp" "$ROOT/src/common/config_check.cpp" "$ROOT/src/common/number_text.cpp" ;;
     *) echo "unknown fuzz target '$1' (expected: cli segment)" >&2; return 1 ;;
   esac
 }

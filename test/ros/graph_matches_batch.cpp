@@ -6,10 +6,10 @@
 #include <sstream>
 
 #include "ros_config.hpp"
-#include "scanhead/core/batch_chain.hpp"
-#include "scanhead/core/job_files.hpp"
-#include "scanhead/core/config_io.hpp"
-#include "scanhead/core/metrics_report.hpp"
+#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/job/job_files.hpp"
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/metrics/metrics_report.hpp"
 
 using namespace scanhead;
 

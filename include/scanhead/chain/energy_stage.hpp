@@ -1,0 +1,69 @@
+/// \file energy_stage.hpp
+/// \brief The last stage: spot stream in; energy map, corner figures, counters and plot traces out.
+/// The node and the batch runner both run this class, so they report the same metrics.
+#pragma once
+
+#include <memory>
+
+#include "scanhead/chain/chain_config.hpp"
+#include "scanhead/energy/energy_accumulator.hpp"
+#include "scanhead/metrics/laser_placement.hpp"
+#include "scanhead/metrics/layer_quality.hpp"
+#include "scanhead/thermal/thermal_layer.hpp"
+#include "scanhead/metrics/laser_settling.hpp"
+#include "scanhead/nc/nc_interpolator.hpp"
+#include "scanhead/metrics/run_metrics.hpp"
+#include "scanhead/job/scan_job.hpp"
+#include "scanhead/chain/trace_recorder.hpp"
+
+namespace scanhead
+{
+/// \brief Map area for a job: the bounding box of all its points grown by energy.map_margin_m.
+void jobMapBounds(const Job& job, double margin_m, Eigen::Vector2d& min_corner, Eigen::Vector2d& max_corner);
+
+class EnergyStage
+{
+public:
+  /// \param[in] job the job as given (map bounds)
+  /// \param[in] nc  an NC started on \p job (or on the same job with the same config): its program
+  ///                gives the corners' times and the laser windows, its stats the filter delay,
+  ///                totalSamples() the plot decimation
+  EnergyStage(const ChainConfig& config, const Job& job, const NcInterpolator& nc);
+  /// \brief Deposits the chunk's energy and feeds every tracker; the trackers run on a second thread
+  /// while the map is written (they share only the read-only chunk), joined before returning.
+  void process(const SpotChunk& chunk);
+  /// \brief Ends the stream and returns the run's metrics (the nearest-path pass on a second
+  /// thread while the map is read).
+  RunMetrics finish();
+
+  const TiledEnergyMap& map() const { return accumulator_.map(); }
+  const TraceRecorder& trace() const { return trace_; }
+  std::uint64_t samplesSeen() const { return counter_.samples(); }
+  /// \brief The thermal view, or nullptr when thermal.enabled is false.
+  const ThermalLayer* thermal() const { return thermal_.get(); }
+
+private:
+  void keepTrack(const SpotChunk& chunk);
+  void thinTrack();
+  void feedThermal(const SpotChunk& chunk);
+
+  ChainConfig config_;
+  std::string job_name_;
+  double actual_delay_s_;  ///< the actual path behind the ideal timeline: filter + servo delay [s]
+  EnergyAccumulator accumulator_;
+  CornerTracker corners_;
+  LaserSettlingCheck settling_;
+  LaserPlacement placement_;
+  std::vector<SpotSample> track_;  ///< every track_stride_-th laser-on sample, and one laser-off sample after each burst
+  std::uint64_t track_seen_ = 0;   ///< laser-on samples seen
+  std::uint64_t track_stride_ = 1; ///< doubles whenever track_ would exceed energy.track_max_samples
+  std::size_t track_peak_bytes_ = 0;
+  std::vector<Eigen::Vector2d> mark_ends_;  ///< first and last points of the marks: not track interior
+  StreamCounter counter_;
+  TraceRecorder trace_;
+  NcStats nc_stats_;  ///< the NC's program figures at start (the per-sample ones stay with the NC)
+  LayerQuality quality_;
+  std::unique_ptr<ThermalLayer> thermal_;  ///< optional (thermal.enabled)
+  std::uint64_t thermal_samples_ = 0;      ///< samples given to it
+};
+}  // namespace scanhead

@@ -1,0 +1,69 @@
+/// \file track_energy.hpp
+/// \brief Deposited energy along the marked track: peaks at corners versus the straight-track
+/// level (SPEC §5, NC §4: the corner test).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <vector>
+
+#include "scanhead/common/chunk.hpp"
+#include "scanhead/energy/energy_map.hpp"
+#include "scanhead/energy/tiled_energy_map.hpp"
+
+namespace scanhead
+{
+/// \brief E sampled at the actual spot centre of every laser-on sample, in stream order.
+struct TrackEnergyProfile
+{
+  std::vector<double> arc_m;         ///< arc length of the actual spot path, laser-on samples only [m]
+  std::vector<double> energy_jpm2;   ///< E at the spot centre, bilinear between pixel centres [J/m²]
+  std::vector<char> interior;        ///< 1 if farther than exclude_ends_m from its burst's ends
+  double mean_jpm2 = 0.0;            ///< mean over the interior samples [J/m²]
+  double median_jpm2 = 0.0;          ///< median over the interior samples: the straight-track level [J/m²]
+  double peak_jpm2 = 0.0;            ///< max over the interior samples [J/m²]
+  double min_jpm2 = 0.0;             ///< min over the interior samples: the worst dip [J/m²]
+  Eigen::Vector2d peak_point_m = Eigen::Vector2d::Zero();  ///< where the peak is [m]
+  std::size_t interior_samples = 0;
+
+  double peakToMean() const { return mean_jpm2 > 0.0 ? peak_jpm2 / mean_jpm2 : 0.0; }
+  double peakToMedian() const { return median_jpm2 > 0.0 ? peak_jpm2 / median_jpm2 : 0.0; }
+  double minToMedian() const { return median_jpm2 > 0.0 ? min_jpm2 / median_jpm2 : 0.0; }
+};
+
+/// \brief Samples \p map along \p spots (power > 0: laser on; a burst is a run of consecutive
+/// laser-on samples). Samples within \p exclude_ends_m of arc length from either end of their
+/// burst are not interior (the half-energy start and end of a track are not corners).
+///
+/// Interpolation (SPEC §5): with the pixel coordinates u = (x − origin.x)/pixel − 1/2,
+/// v = (y − origin.y)/pixel − 1/2 (pixel centres at integer u, v), i = ⌊u⌋, j = ⌊v⌋, a = u − i, b = v − j,
+/// \f[ E = (1-a)(1-b)\,E_{i,j} + a(1-b)\,E_{i+1,j} + (1-a)\,b\,E_{i,j+1} + a\,b\,E_{i+1,j+1}. \f]
+/// Points off the map (outside [origin, origin + (width, height)·pixel]) read 0; in the half-pixel
+/// band between the outer pixel centres and the map edge, u and v are clamped to the outer centres
+/// (the edge pixels' values are extended, not faded to 0).
+///
+/// Arc length: arc_m grows by |actual_k − actual_{k−1}| between consecutive laser-on samples of a
+/// burst; it does not grow across the laser-off gap between bursts (so it is continuous, and the
+/// arc of a burst is its last arc_m minus its first). A sample is interior if
+/// arc − arc_first > exclude_ends_m and arc_last − arc > exclude_ends_m (strictly).
+/// With \p track_ends, a sample is interior if its spot is farther than exclude_ends_m from every
+/// point of track_ends instead (the marks' first and last points: a burst that skywriting or a
+/// delay cut at a corner does not hide the corner).
+/// The median of an even count is the mean of the two middle values. With no interior sample,
+/// mean, median, peak and interior_samples are 0.
+/// \param[in] exclude_ends_m >= 0 [m]
+/// \param[in] track_ends     optional: where the marked tracks start and end [m]
+/// \throws ConfigError if exclude_ends_m is not finite and >= 0
+/// \throws NumericalError on a non-finite actual spot of a laser-on sample
+TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<SpotSample>& spots,
+                                      double exclude_ends_m,
+                                      const std::vector<Eigen::Vector2d>* track_ends = nullptr);
+/// \brief The same on the sparse map of a run.
+TrackEnergyProfile trackEnergyProfile(const TiledEnergyMap& map, const std::vector<SpotSample>& spots,
+                                      double exclude_ends_m,
+                                      const std::vector<Eigen::Vector2d>* track_ends = nullptr);
+
+/// \brief Largest E [J/m²] over the pixels whose centre lies within \p radius_m of \p point
+/// (the pixel holding the point if none does); 0 off the map.
+double peakNear(const TiledEnergyMap& map, const Eigen::Vector2d& point, double radius_m);
+}  // namespace scanhead

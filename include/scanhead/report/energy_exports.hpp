@@ -1,0 +1,39 @@
+/// \file energy_exports.hpp
+/// \brief Images of the sparse energy map: a downsampled overview of the whole map, full-resolution
+/// crops of each part (each square of the THESIS job) and of user regions.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scanhead/energy/energy_config.hpp"
+#include "scanhead/energy/map_regions.hpp"
+#include "scanhead/job/scan_job.hpp"
+#include "scanhead/energy/tiled_energy_map.hpp"
+
+namespace scanhead
+{
+/// \brief How the values of a field image are named in its files.
+struct FieldUnits
+{
+  std::string quantity = "energy density [J/m^2]";  ///< what the floats are (TIFF description, YAML comment)
+  std::string scale_key = "scale_max_jpm2";         ///< the YAML key of the colour and 16-bit scale
+};
+
+/// \brief Writes \p stem.png (inferno with colour bar), \p stem_16bit.png (linear 0..scale),
+/// \p stem.tiff (float32, with the pixel size and position as GeoTIFF tags) and \p stem.yaml
+/// (geometry and scale) for the grid \p map into \p dir (any field on a grid: the thermal view
+/// writes temperatures this way). \return the scale used (the grid's peak)
+double writeFieldImages(const std::string& dir, const std::string& stem, const EnergyMap& map,
+                        const std::string& description, const FieldUnits& units = FieldUnits());
+
+/// \brief The whole export of a run into \p dir: the overview (full resolution up to
+/// kOverviewSide pixels a side, else block means) as energy_map.*, the first config.crop_parts
+/// parts and every config.crop_regions region under crops/ (full resolution up to kCropSide
+/// pixels a side, else block means).
+/// \throws ConfigError from parseMapRegions; InputError on I/O errors
+void writeEnergyExports(const std::string& dir, const TiledEnergyMap& map, const Job& job, const EnergyConfig& config);
+
+constexpr int kOverviewSide = 4000;  ///< px, the longer side of energy_map.* at most
+constexpr int kCropSide = 8000;      ///< px, the longer side of a crop at most (256 MB of floats)
+}  // namespace scanhead

@@ -1,0 +1,387 @@
+#include "scanhead/chain/config_io.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "scanhead/common/config_check.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
+
+namespace scanhead
+{
+namespace
+{
+/// Calls f(key, member) for every setting: the single list of keys, used to read, write and check.
+template <class Config, class F>
+void visitSettings(Config& c, F&& f)
+{
+  f("cam.layer", c.cam.layer);
+  f("cam.units", c.cam.units);
+  f("cam.mark_speed_mps", c.cam.mark_speed_mps);
+  f("cam.jump_speed_mps", c.cam.jump_speed_mps);
+  f("cam.mark_power_w", c.cam.mark_power_w);
+  f("cam.shape_file", c.cam.shape_file);
+  f("stream.chunk_samples", c.stream.chunk_samples);
+  f("stream.window_chunks", c.stream.window_chunks);
+  f("nc.period_s", c.nc.period_s);
+  f("nc.fir_t1_s", c.nc.fir_t1_s);
+  f("nc.fir_t2_s", c.nc.fir_t2_s);
+  f("nc.max_joint_speed_radps", c.nc.max_joint_speed_radps);
+  f("nc.implicit_jump_speed_mps", c.nc.implicit_jump_speed_mps);
+  f("nc.tail_s", c.nc.tail_s);
+  f("nc.debug", c.nc.debug);
+  f("nc.igt.mode", c.nc.igt.mode);
+  f("nc.igt.table_file", c.nc.igt.table_file);
+  f("nc.igt.table_nodes", c.nc.igt.table_nodes);
+  f("nc.igt.table_interpolation", c.nc.igt.table_interpolation);
+  f("nc.filter_mode", c.nc.filter_mode);
+  f("nc.max_joint_accel_radps2", c.nc.max_joint_accel_radps2);
+  f("nc.max_joint_jerk_radps3", c.nc.max_joint_jerk_radps3);
+  f("nc.cap_speeds", c.nc.cap_speeds);
+  f("nc.mark_delay_s", c.nc.mark_delay_s);
+  f("nc.jump_delay_s", c.nc.jump_delay_s);
+  f("nc.polygon_delay_s", c.nc.polygon_delay_s);
+  f("nc.polygon_delay_mode", c.nc.polygon_delay_mode);
+  f("nc.skywriting.enabled", c.nc.skywriting.enabled);
+  f("nc.skywriting.run_in_m", c.nc.skywriting.run_in_m);
+  f("nc.skywriting.run_in_s", c.nc.skywriting.run_in_s);
+  f("nc.skywriting.run_out_m", c.nc.skywriting.run_out_m);
+  f("nc.skywriting.run_out_s", c.nc.skywriting.run_out_s);
+  f("nc.skywriting.min_angle_deg", c.nc.skywriting.min_angle_deg);
+  f("nc.power_mode", c.nc.power_mode);
+  f("nc.power_floor", c.nc.power_floor);
+  f("nc.quantisation_bits", c.nc.quantisation_bits);
+  f("recipe.preset", c.recipe.preset);
+  f("recipe.contour_speed_mps", c.recipe.contour_speed_mps);
+  f("recipe.contour_power_w", c.recipe.contour_power_w);
+  f("recipe.hatch_speed_mps", c.recipe.hatch_speed_mps);
+  f("recipe.hatch_power_w", c.recipe.hatch_power_w);
+  f("recipe.jump_speed_mps", c.recipe.jump_speed_mps);
+  f("recipe.contour_jump_speed_mps", c.recipe.contour_jump_speed_mps);
+  f("recipe.laser_on_delay_s", c.recipe.laser_on_delay_s);
+  f("recipe.laser_off_delay_s", c.recipe.laser_off_delay_s);
+  f("servo.model", c.servo.model);
+  f("servo.x.bandwidth_hz", c.servo.x.bandwidth_hz);
+  f("servo.x.damping", c.servo.x.damping);
+  f("servo.x.pole_ratio", c.servo.x.pole_ratio);
+  f("servo.x.plant.resistance_ohm", c.servo.x.plant.resistance_ohm);
+  f("servo.x.plant.inductance_h", c.servo.x.plant.inductance_h);
+  f("servo.x.plant.torque_constant_nm_per_a", c.servo.x.plant.torque_constant_nm_per_a);
+  f("servo.x.plant.inertia_kgm2", c.servo.x.plant.inertia_kgm2);
+  f("servo.x.plant.viscous_nms", c.servo.x.plant.viscous_nms);
+  f("servo.x.plant.offset_torque_nm", c.servo.x.plant.offset_torque_nm);
+  f("servo.x.plant.coulomb_torque_nm", c.servo.x.plant.coulomb_torque_nm);
+  f("servo.x.plant.mode_gain", c.servo.x.plant.mode_gain);
+  f("servo.x.plant.mode_damping", c.servo.x.plant.mode_damping);
+  f("servo.x.plant.mode_frequency_hz", c.servo.x.plant.mode_frequency_hz);
+  f("servo.x.plant.supply_voltage_v", c.servo.x.plant.supply_voltage_v);
+  f("servo.x.gains.kii", c.servo.x.gains.kii);
+  f("servo.x.gains.tii_s", c.servo.x.gains.tii_s);
+  f("servo.x.gains.kiw", c.servo.x.gains.kiw);
+  f("servo.x.gains.tiw_s", c.servo.x.gains.tiw_s);
+  f("servo.x.gains.ktheta", c.servo.x.gains.ktheta);
+  f("servo.x.gains.tdtheta_s", c.servo.x.gains.tdtheta_s);
+  f("servo.x.gains.tauf_s", c.servo.x.gains.tauf_s);
+  f("servo.x.gains.k1", c.servo.x.gains.k1);
+  f("servo.x.gains.k2", c.servo.x.gains.k2);
+  f("servo.y.bandwidth_hz", c.servo.y.bandwidth_hz);
+  f("servo.y.damping", c.servo.y.damping);
+  f("servo.y.pole_ratio", c.servo.y.pole_ratio);
+  f("servo.y.plant.resistance_ohm", c.servo.y.plant.resistance_ohm);
+  f("servo.y.plant.inductance_h", c.servo.y.plant.inductance_h);
+  f("servo.y.plant.torque_constant_nm_per_a", c.servo.y.plant.torque_constant_nm_per_a);
+  f("servo.y.plant.inertia_kgm2", c.servo.y.plant.inertia_kgm2);
+  f("servo.y.plant.viscous_nms", c.servo.y.plant.viscous_nms);
+  f("servo.y.plant.offset_torque_nm", c.servo.y.plant.offset_torque_nm);
+  f("servo.y.plant.coulomb_torque_nm", c.servo.y.plant.coulomb_torque_nm);
+  f("servo.y.plant.mode_gain", c.servo.y.plant.mode_gain);
+  f("servo.y.plant.mode_damping", c.servo.y.plant.mode_damping);
+  f("servo.y.plant.mode_frequency_hz", c.servo.y.plant.mode_frequency_hz);
+  f("servo.y.plant.supply_voltage_v", c.servo.y.plant.supply_voltage_v);
+  f("servo.y.gains.kii", c.servo.y.gains.kii);
+  f("servo.y.gains.tii_s", c.servo.y.gains.tii_s);
+  f("servo.y.gains.kiw", c.servo.y.gains.kiw);
+  f("servo.y.gains.tiw_s", c.servo.y.gains.tiw_s);
+  f("servo.y.gains.ktheta", c.servo.y.gains.ktheta);
+  f("servo.y.gains.tdtheta_s", c.servo.y.gains.tdtheta_s);
+  f("servo.y.gains.tauf_s", c.servo.y.gains.tauf_s);
+  f("servo.y.gains.k1", c.servo.y.gains.k1);
+  f("servo.y.gains.k2", c.servo.y.gains.k2);
+  f("servo.kc_over_jeq", c.servo.kc_over_jeq);
+  f("servo.controller_rate_hz", c.servo.controller_rate_hz);
+  f("servo.feedforward_derivatives", c.servo.feedforward_derivatives);
+  f("servo.voltage_feedforward", c.servo.voltage_feedforward);
+  f("optics.urdf_path", c.optics.urdf_path);
+  f("optics.defects", c.optics.defects);
+  f("optics.window_thickness_m", c.optics.window_thickness_m);
+  f("optics.n_gas", c.optics.n_gas);
+  f("optics.n_window", c.optics.n_window);
+  f("optics.field_half_width_m", c.optics.field_half_width_m);
+  f("optics.newton_tolerance_m", c.optics.newton_tolerance_m);
+  f("optics.newton_max_iterations", c.optics.newton_max_iterations);
+  f("energy.spot_diameter_m", c.energy.spot_diameter_m);
+  f("energy.pixel_m", c.energy.pixel_m);
+  f("energy.max_substep_radii", c.energy.max_substep_radii);
+  f("energy.truncation_radii", c.energy.truncation_radii);
+  f("energy.map_margin_m", c.energy.map_margin_m);
+  f("energy.corner_min_angle_deg", c.energy.corner_min_angle_deg);
+  f("energy.laser_path_tolerance_m", c.energy.laser_path_tolerance_m);
+  f("energy.track_exclude_ends_m", c.energy.track_exclude_ends_m);
+  f("energy.track_max_samples", c.energy.track_max_samples);
+  f("energy.tile_cache_bytes", c.energy.tile_cache_bytes);
+  f("energy.oblique_incidence", c.energy.oblique_incidence);
+  f("energy.defocus_mode", c.energy.defocus_mode);
+  f("energy.defocus_m", c.energy.defocus_m);
+  f("energy.focus_distance_m", c.energy.focus_distance_m);
+  f("energy.wavelength_m", c.energy.wavelength_m);
+  f("energy.beam_quality_m2", c.energy.beam_quality_m2);
+  f("energy.crop_parts", c.energy.crop_parts);
+  f("energy.crop_regions", c.energy.crop_regions);
+  f("energy.contour_max_samples", c.energy.contour_max_samples);
+  f("energy.contour_lag_s", c.energy.contour_lag_s);
+  f("energy.same_instant_window_s", c.energy.same_instant_window_s);
+  f("energy.spill_dir", c.energy.spill_dir);
+  f("thermal.enabled", c.thermal.enabled);
+  f("thermal.start_s", c.thermal.start_s);
+  f("thermal.duration_s", c.thermal.duration_s);
+  f("thermal.density_solid_kg_m3", c.thermal.model.density_solid_kg_m3);
+  f("thermal.density_powder_kg_m3", c.thermal.model.density_powder_kg_m3);
+  f("thermal.heat_capacity_solid_j_kg_k", c.thermal.model.heat_capacity_solid_j_kg_k);
+  f("thermal.heat_capacity_powder_j_kg_k", c.thermal.model.heat_capacity_powder_j_kg_k);
+  f("thermal.conductivity_solid_w_m_k", c.thermal.model.conductivity_solid_w_m_k);
+  f("thermal.conductivity_powder_w_m_k", c.thermal.model.conductivity_powder_w_m_k);
+  f("thermal.loss_depth_m", c.thermal.model.loss_depth_m);
+  f("thermal.layer_thickness_m", c.thermal.model.layer_thickness_m);
+  f("thermal.melt_temperature_k", c.thermal.model.melt_temperature_k);
+  f("thermal.ambient_temperature_k", c.thermal.model.ambient_temperature_k);
+  f("thermal.phase_switch", c.thermal.model.phase_switch);
+  f("thermal.absorptivity", c.thermal.model.absorptivity);
+  f("thermal.spot_diameter_m", c.thermal.model.spot_diameter_m);
+  f("thermal.source_truncation_radii", c.thermal.model.source_truncation_radii);
+  f("thermal.max_substep_radii", c.thermal.model.max_substep_radii);
+  f("thermal.cell_m", c.thermal.model.cell_m);
+  f("thermal.window_m", c.thermal.model.window_m);
+  f("thermal.recentre_margin_m", c.thermal.model.recentre_margin_m);
+  f("thermal.step_samples", c.thermal.model.step_samples);
+  f("thermal.face_conductivity", c.thermal.model.face_conductivity);
+  f("thermal.active_threshold_k", c.thermal.model.active_threshold_k);
+  f("thermal.settle_time_s", c.thermal.model.settle_time_s);
+}
+
+std::string origin(const std::string& key, const ConfigValue& v)
+{
+  return key + " (" + v.where + ")";
+}
+
+void parseValue(const std::string& key, const ConfigValue& v, double& out)
+{
+  switch (parseNumber(v.text, out))
+  {
+    case NumberText::Ok:
+      return;
+    case NumberText::NotFinite:
+      throw ConfigError(origin(key, v) + ": '" + v.text + "' is not a finite number");
+    case NumberText::NotNumber:
+      throw ConfigError(origin(key, v) + ": '" + v.text + "' is not a number");
+  }
+}
+
+void parseValue(const std::string& key, const ConfigValue& v, std::size_t& out)
+{
+  double value = 0.0;
+  parseValue(key, v, value);
+  if (value < 0.0 || value != std::floor(value) || value > 1e15)
+    throw ConfigError(origin(key, v) + ": '" + v.text + "' is not a non-negative integer");
+  out = static_cast<std::size_t>(value);
+}
+
+void parseValue(const std::string& key, const ConfigValue& v, int& out)
+{
+  double value = 0.0;
+  parseValue(key, v, value);
+  if (value != std::floor(value) || std::fabs(value) > 1e9)
+    throw ConfigError(origin(key, v) + ": '" + v.text + "' is not an integer");
+  out = static_cast<int>(value);
+}
+
+void parseValue(const std::string& key, const ConfigValue& v, bool& out)
+{
+  if (v.text == "true" || v.text == "True" || v.text == "1")
+    out = true;
+  else if (v.text == "false" || v.text == "False" || v.text == "0")
+    out = false;
+  else
+    throw ConfigError(origin(key, v) + ": '" + v.text + "' is not true or false");
+}
+
+void parseValue(const std::string&, const ConfigValue& v, std::string& out)
+{
+  out = v.text;
+}
+
+std::string formatValue(double v) { return fullPrecisionText(v); }
+std::string formatValue(std::size_t v) { return std::to_string(v); }
+std::string formatValue(int v) { return std::to_string(v); }
+std::string formatValue(bool v) { return v ? "true" : "false"; }
+std::string formatValue(const std::string& v) { return "\"" + v + "\""; }
+
+void flattenNode(const YAML::Node& node, const std::string& prefix, const std::string& source, FlatConfig& out)
+{
+  const std::string where = source + ":" + std::to_string(node.Mark().line + 1);
+  if (node.IsScalar())
+  {
+    out[prefix] = ConfigValue{node.Scalar(), where};
+    return;
+  }
+  if (node.IsNull())
+    return;
+  if (!node.IsMap())
+    throw InputError(where + ": " + (prefix.empty() ? std::string("the file") : prefix) +
+                     " must be a map of settings, not a list");
+  for (const auto& item : node)
+  {
+    const std::string key = item.first.as<std::string>();
+    flattenNode(item.second, prefix.empty() ? key : prefix + "." + key, source, out);
+  }
+}
+
+std::string joinKeys()
+{
+  std::string all;
+  for (const auto& k : knownConfigKeys())
+    all += (all.empty() ? "" : ", ") + k;
+  return all;
+}
+}  // namespace
+
+std::vector<std::string> knownConfigKeys()
+{
+  std::vector<std::string> keys;
+  ChainConfig c;
+  visitSettings(c, [&](const char* key, auto&) { keys.emplace_back(key); });
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+FlatConfig flattenYaml(const std::string& yaml_text, const std::string& source)
+{
+  YAML::Node root;
+  try
+  {
+    root = YAML::Load(yaml_text);
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+  }
+  FlatConfig flat;
+  flattenNode(root, "", source, flat);
+  return flat;
+}
+
+void applyOverride(FlatConfig& flat, const std::string& assignment)
+{
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ConfigError("--set '" + assignment + "': expected section.key=value");
+  const std::string key = assignment.substr(0, eq);
+  const auto keys = knownConfigKeys();
+  if (!std::binary_search(keys.begin(), keys.end(), key))
+    throw ConfigError("--set '" + assignment + "': unknown key '" + key + "' (known: " + joinKeys() + ")");
+  flat[key] = ConfigValue{assignment.substr(eq + 1), "--set"};
+}
+
+ChainConfig chainConfigFromFlat(const FlatConfig& flat)
+{
+  ChainConfig config;
+  std::size_t used = 0;
+  visitSettings(config, [&](const char* key, auto& member) {
+    const auto it = flat.find(key);
+    if (it == flat.end())
+      return;
+    parseValue(key, it->second, member);
+    ++used;
+  });
+  if (used != flat.size())
+  {
+    const auto keys = knownConfigKeys();
+    for (const auto& [key, value] : flat)
+      if (!std::binary_search(keys.begin(), keys.end(), key))
+        throw ConfigError(origin(key, value) + ": unknown setting (known: " + joinKeys() + ")");
+  }
+  config.validate();
+  return config;
+}
+
+ChainConfig loadChainConfig(const std::string& path, const std::vector<std::string>& overrides)
+{
+  FlatConfig flat;
+  if (!path.empty())
+  {
+    std::ifstream in(path);
+    if (!in)
+      throw InputError(path + ": cannot open the config file");
+    std::stringstream text;
+    text << in.rdbuf();
+    flat = flattenYaml(text.str(), path);
+  }
+  for (const auto& assignment : overrides)
+    applyOverride(flat, assignment);
+  return chainConfigFromFlat(flat);
+}
+
+std::string chainConfigToYaml(const ChainConfig& config)
+{
+  // Settings are visited grouped by section, so one line per key under its section headers.
+  std::ostringstream out;
+  std::vector<std::string> open;  // section path currently written
+  ChainConfig copy = config;
+  visitSettings(copy, [&](const char* key, auto& member) {
+    std::vector<std::string> parts;
+    std::stringstream ss(key);
+    for (std::string part; std::getline(ss, part, '.');)
+      parts.push_back(part);
+    std::size_t common = 0;
+    while (common < open.size() && common + 1 < parts.size() && open[common] == parts[common])
+      ++common;
+    open.resize(common);
+    for (std::size_t i = common; i + 1 < parts.size(); ++i)
+    {
+      out << std::string(2 * i, ' ') << parts[i] << ":\n";
+      open.push_back(parts[i]);
+    }
+    out << std::string(2 * (parts.size() - 1), ' ') << parts.back() << ": " << formatValue(member) << "\n";
+  });
+  return out.str();
+}
+
+void StreamConfig::validate() const
+{
+  requireSetting(chunk_samples >= 1, "stream.chunk_samples", ">= 1", static_cast<double>(chunk_samples));
+  requireSetting(window_chunks >= 1, "stream.window_chunks", ">= 1", static_cast<double>(window_chunks));
+}
+
+void ChainConfig::validate() const
+{
+  cam.validate();
+  stream.validate();
+  nc.validate();
+  recipe.validate();
+  servo.validate();
+  optics.validate();
+  energy.validate();
+  thermal.validate();
+}
+
+void ThermalStageConfig::validate() const
+{
+  requireSetting(std::isfinite(start_s) && start_s >= 0.0, "thermal.start_s", ">= 0", start_s);
+  requireSetting(std::isfinite(duration_s), "thermal.duration_s", "finite (<= 0: to the end)", duration_s);
+  model.validate();
+}
+}  // namespace scanhead

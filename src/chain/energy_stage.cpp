@@ -1,0 +1,244 @@
+#include "scanhead/chain/energy_stage.hpp"
+
+#include <cmath>
+#include <future>
+
+#include "scanhead/servo/galvo_servo.hpp"
+#include "scanhead/energy/map_regions.hpp"
+#include "scanhead/energy/track_energy.hpp"
+
+namespace scanhead
+{
+namespace
+{
+constexpr std::size_t kMaxTraceRows = 20000;  // plots need no more; bounds memory on long jobs
+constexpr std::size_t kParallelChunkSamples = 64;  // smaller chunks run their trackers inline
+
+EnergyAccumulator makeAccumulator(const ChainConfig& config, const Job& job)
+{
+  Eigen::Vector2d lo, hi;
+  jobMapBounds(job, config.energy.map_margin_m, lo, hi);
+  return EnergyAccumulator(config.energy, lo, hi);
+}
+
+double servoDelay(const ChainConfig& config)
+{
+  return GalvoServo(config.servo, config.nc.period_s).lowFrequencyDelay().maxCoeff();
+}
+
+CornerTracker makeCornerTracker(const ChainConfig& config, const NcInterpolator& nc, double actual_delay_s)
+{
+  return CornerTracker(findCorners(nc.program().timeline, config.energy.corner_min_angle_deg * M_PI / 180.0),
+                       nc.stats().filter_delay_s, actual_delay_s);
+}
+
+LayerQuality makeLayerQuality(const ChainConfig& config, const Job& job, const NcInterpolator& nc,
+                              double actual_delay_s)
+{
+  const double lag = config.energy.contour_lag_s >= 0.0 ? config.energy.contour_lag_s : actual_delay_s;
+  Eigen::Vector2d lo, hi;
+  jobMapBounds(job, config.energy.map_margin_m, lo, hi);
+  return LayerQuality(config.energy, nc.program().timeline, job, lag, nc.totalSamples(), lo, hi);
+}
+}  // namespace
+
+void jobMapBounds(const Job& job, double margin_m, Eigen::Vector2d& min_corner, Eigen::Vector2d& max_corner)
+{
+  min_corner = Eigen::Vector2d::Constant(INFINITY);
+  max_corner = Eigen::Vector2d::Constant(-INFINITY);
+  for (const Polyline& line : job.polylines)
+    for (const Eigen::Vector2d& p : line.points)
+    {
+      min_corner = min_corner.cwiseMin(p);
+      max_corner = max_corner.cwiseMax(p);
+    }
+  min_corner.array() -= margin_m;
+  max_corner.array() += margin_m;
+}
+
+EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcInterpolator& nc)
+  : config_(config)
+  , job_name_(job.name)
+  , actual_delay_s_(nc.stats().filter_delay_s + servoDelay(config))
+  , accumulator_(makeAccumulator(config, job))
+  , corners_(makeCornerTracker(config, nc, actual_delay_s_))
+  , settling_(nc.program(), nc.stats().gate_shift_s, nc.stats().filter_delay_s, config.energy.laser_path_tolerance_m)
+  , placement_(job, config.energy.laser_path_tolerance_m)
+  , trace_(nc.totalSamples(), kMaxTraceRows)
+  , nc_stats_(nc.stats())
+  , quality_(makeLayerQuality(config, job, nc, actual_delay_s_))
+{
+  // A crop that misses the map is a setting error: said now, not after the run.
+  const TiledEnergyMap& map = accumulator_.map();
+  requireRegionsOnMap(parseMapRegions(config.energy.crop_regions), map.origin(),
+                      map.origin() + map.pixel() * Eigen::Vector2d(static_cast<double>(map.width()),
+                                                                   static_cast<double>(map.height())));
+  if (config.thermal.enabled)
+    thermal_ = std::make_unique<ThermalLayer>(config.thermal.model);
+  for (const Polyline& line : job.polylines)
+  {
+    if (line.type == PolylineType::Mark && !line.points.empty())
+    {
+      mark_ends_.push_back(line.points.front());
+      mark_ends_.push_back(line.points.back());
+    }
+  }
+}
+
+void EnergyStage::process(const SpotChunk& chunk)
+{
+  // The map and the trackers share nothing but the (read-only) chunk: the trackers run on a second
+  // core while this one deposits the energy, and are joined before returning (so results do not
+  // depend on the scheduling, and an exception in either reaches the caller).
+  auto track = [this, &chunk] {
+    counter_.process(chunk);
+    corners_.process(chunk);
+    settling_.process(chunk);
+    placement_.add(chunk);
+    trace_.process(chunk);
+    keepTrack(chunk);
+    quality_.process(chunk);
+    if (thermal_)
+      feedThermal(chunk);
+  };
+  if (chunk.samples.size() < kParallelChunkSamples)
+  {
+    track();  // a thread would cost more than it saves
+    accumulator_.process(chunk);
+    return;
+  }
+  auto trackers = std::async(std::launch::async, track);
+  accumulator_.process(chunk);
+  trackers.get();
+}
+
+void EnergyStage::feedThermal(const SpotChunk& chunk)
+{
+  // The samples of the thermal time window only (the model skips indices it has seen, and treats
+  // a gap as laser off).
+  std::size_t first = 0;
+  while (first < chunk.samples.size() && !config_.thermal.covers(chunk.first_index + first, chunk.period_s))
+    ++first;
+  std::size_t end = first;
+  while (end < chunk.samples.size() && config_.thermal.covers(chunk.first_index + end, chunk.period_s))
+    ++end;
+  if (first == end)
+    return;
+  SpotChunk part;
+  part.first_index = chunk.first_index + first;
+  part.period_s = chunk.period_s;
+  part.samples.assign(chunk.samples.begin() + static_cast<std::ptrdiff_t>(first),
+                      chunk.samples.begin() + static_cast<std::ptrdiff_t>(end));
+  thermal_->process(part);
+  thermal_samples_ += part.samples.size();
+}
+
+void EnergyStage::keepTrack(const SpotChunk& chunk)
+{
+  // Laser-on samples for the track energy profile, each burst closed by one laser-off sample.
+  // Memory stays bounded: past energy.track_max_samples every other laser-on sample is dropped and
+  // the stride doubles (decided sample by sample, so chunking does not change what is kept).
+  for (const SpotSample& s : chunk.samples)
+  {
+    if (s.power_w > 0.0)
+    {
+      if (track_seen_++ % track_stride_ != 0)
+        continue;
+      track_.push_back(s);
+      if (track_.size() > config_.energy.track_max_samples)
+        thinTrack();
+    }
+    else if (!track_.empty() && track_.back().power_w > 0.0)
+    {
+      track_.push_back(s);
+    }
+  }
+  track_peak_bytes_ = std::max(track_peak_bytes_, track_.capacity() * sizeof(SpotSample));
+}
+
+void EnergyStage::thinTrack()
+{
+  // The i-th laser-on entry is laser-on sample i·stride: keep the even ones (stride → 2·stride).
+  std::size_t kept = 0, on = 0;
+  for (const SpotSample& s : track_)
+  {
+    if (s.power_w > 0.0 && on++ % 2 != 0)
+      continue;
+    if (s.power_w <= 0.0 && (kept == 0 || track_[kept - 1].power_w <= 0.0))
+      continue;  // a burst left with no sample needs no closing sample
+    track_[kept++] = s;
+  }
+  track_.resize(kept);
+  track_stride_ *= 2;
+}
+
+RunMetrics EnergyStage::finish()
+{
+  // The layer metrics' last pass (the nearest-path index over the whole path) needs no map: it runs
+  // on the second core while this one reads the map for the energy figures.
+  auto quality = std::async(std::launch::async, [this] { return quality_.finish(); });
+  accumulator_.finish();
+  RunMetrics m;
+  m.job_name = job_name_;
+  m.samples = counter_.samples();
+  m.dropped_samples = counter_.dropped();
+  m.duration_s = static_cast<double>(counter_.samples()) * config_.nc.period_s;
+  m.laser_on_time_s = counter_.laserOnTime();
+  m.commanded_energy_j = counter_.commandedEnergy();
+  m.deposited_energy_j = accumulator_.map().totalEnergy();
+  m.energy_outside_map_j = accumulator_.energyOutsideMap();
+  m.peak_energy_density_jpm2 = accumulator_.map().peak();
+  m.corners = corners_.reports(config_.nc.fir_t1_s, config_.nc.fir_t2_s);
+  m.nc_program = nc_stats_.program;
+  m.nc_speed_cap_mps = nc_stats_.speed_cap_mps;
+  m.nc_filter_delay_s = nc_stats_.filter_delay_s;
+  m.nc_t1_s = nc_stats_.longest_t1_s;
+  m.nc_t2_s = nc_stats_.longest_t2_s;
+  const LaserSettlingCounts& settling = settling_.counts();
+  m.laser_early_samples = settling.early_samples;
+  m.laser_late_samples = settling.late_samples;
+  m.laser_misplaced_energy_j = settling.early_energy_j + settling.late_energy_j;
+  m.laser_off_path_samples = placement_.counts().off_path_samples;
+  m.laser_max_off_path_m = placement_.counts().max_distance_m;
+  const TrackEnergyProfile track =
+      trackEnergyProfile(accumulator_.map(), track_, config_.energy.track_exclude_ends_m, &mark_ends_);
+  m.track_measured = track.interior_samples > 0;
+  m.track_median_jpm2 = track.median_jpm2;
+  m.track_mean_jpm2 = track.mean_jpm2;
+  m.track_peak_jpm2 = track.peak_jpm2;
+  m.track_peak_to_median = track.peakToMedian();
+  m.track_min_to_median = track.minToMedian();
+  m.track_peak_point_m = track.peak_point_m;
+  m.track_stride = track_stride_;
+  double ratio_sum = 0.0;
+  for (CornerReport& c : m.corners)
+  {
+    // The actual path cuts the corner: look as far as it passed from it, plus a spot radius.
+    const double cut = std::isfinite(c.actual.max_contour_error_m) ? c.actual.max_contour_error_m : 0.0;
+    c.energy_peak_jpm2 = peakNear(accumulator_.map(), c.corner.point, cut + 0.5 * config_.energy.spot_diameter_m);
+    if (track.mean_jpm2 > 0.0)
+    {
+      const double ratio = c.energy_peak_jpm2 / track.mean_jpm2;
+      ratio_sum += ratio;
+      m.corner_peak_to_track_mean_max = std::max(m.corner_peak_to_track_mean_max, ratio);
+    }
+  }
+  if (track.mean_jpm2 > 0.0 && !m.corners.empty())
+    m.corner_peak_to_track_mean = ratio_sum / static_cast<double>(m.corners.size());
+  m.quality = quality.get();
+  if (thermal_)
+  {
+    thermal_->finish();
+    m.thermal_enabled = true;
+    m.thermal_samples = thermal_samples_;
+    m.thermal_melt_pool = thermal_->stats();
+    m.thermal_energy = thermal_->energy();
+    m.thermal_melted_area_m2 = thermal_->meltedArea();
+  }
+  m.map_tiles = accumulator_.map().tilesTouched();
+  m.map_tiles_spilled = accumulator_.map().tilesSpilled();
+  m.map_spill_file_bytes = accumulator_.map().spillFileBytes();
+  m.peak_memory_bytes = accumulator_.map().peakResidentBytes() + m.quality.memory_bytes + track_peak_bytes_;
+  return m;
+}
+}  // namespace scanhead

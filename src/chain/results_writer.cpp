@@ -1,0 +1,96 @@
+#include "scanhead/common/number_text.hpp"
+#include "scanhead/common/text_file.hpp"
+#include "scanhead/chain/results_writer.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <system_error>
+
+#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/report/energy_exports.hpp"
+#include "scanhead/report/thermal_images.hpp"
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/report/job_picture.hpp"
+#include "scanhead/job/job_stats.hpp"
+#include "scanhead/metrics/metrics_report.hpp"
+
+namespace scanhead
+{
+namespace fs = std::filesystem;
+
+namespace
+{
+
+/// A folder the writer may replace: empty, or written by an earlier run.
+bool replaceable(const fs::path& dir)
+{
+  return fs::is_empty(dir) || fs::exists(dir / kResultsMarker);
+}
+}  // namespace
+
+void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, const EnergyStage& energy,
+                        const ChainConfig& config, const Job& job, const ResultsFinisher& finish)
+{
+  const fs::path dir = fs::absolute(dir_text).lexically_normal();
+  if (fs::exists(dir) && (!fs::is_directory(dir) || !replaceable(dir)))
+    throw InputError(dir.string() + ": exists and is not a scanhead results folder; choose another --out");
+  const fs::path parent = dir.parent_path();
+  std::error_code ec;
+  fs::create_directories(parent, ec);
+  if (ec)
+    throw InputError(parent.string() + ": cannot create (" + ec.message() + ")");
+  const fs::path tmp = parent / ("." + dir.filename().string() + ".partial");
+  fs::remove_all(tmp);
+  try
+  {
+    fs::create_directory(tmp);
+    writeTextFile(tmp / kResultsMarker, "written by scanhead\n");
+    writeTextFile(tmp / "metrics.yaml", metricsToYaml(metrics));
+    writeTextFile(tmp / "config.yaml", chainConfigToYaml(config));
+    writeTextFile(tmp / "job.yaml", scanJobToYaml(job));
+    writeTextFile(tmp / "job_stats.yaml", jobStatsYaml(computeJobStats(job, config.nc.implicit_jump_speed_mps)));
+    writeJobPicture((tmp / "job.png").string(), job, 1600);
+    writeTextFile(tmp / "trace.csv", energy.trace().csv(config.nc.period_s));
+    writeEnergyExports(tmp.string(), energy.map(), job, config.energy);
+    if (energy.thermal() != nullptr)
+      writeThermalImages(tmp.string(), *energy.thermal());
+    if (finish)
+      finish(tmp.string());
+    if (fs::exists(dir))
+      fs::remove_all(dir);
+    fs::rename(tmp, dir);
+  }
+  catch (...)
+  {
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+}
+
+bool runPythonScript(const std::string& script, const std::vector<std::string>& arguments)
+{
+  // Each word single-quoted, its own quotes as '\'' (labels and paths come from users).
+  auto quoted = [](const std::string& word) {
+    std::string out = "'";
+    for (char c : word)
+      out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+  };
+  const std::string path = resolvePackagePath(script);
+  std::string command = "/usr/bin/python3 " + quoted(path);
+  for (const std::string& argument : arguments)
+    command += " " + quoted(argument);
+  if (std::system((command + " 2>&1").c_str()) == 0)
+    return true;
+  std::fprintf(stderr, "scanhead: plots skipped (%s failed; is python3-matplotlib installed?)\n", path.c_str());
+  return false;
+}
+
+ResultsFinisher plotFinisher()
+{
+  return [](const std::string& tmp_dir) { runPythonScript("scripts/plot_results.py", { tmp_dir }); };
+}
+}  // namespace scanhead

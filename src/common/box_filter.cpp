@@ -1,0 +1,84 @@
+/// \file box_filter.cpp
+/// \brief Taps of the exact-duration box filter (SPEC §2.3).
+#include "scanhead/common/box_filter.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "scanhead/common/errors.hpp"
+
+namespace scanhead
+{
+template <int N>
+BoxFilter<N>::BoxFilter() : BoxFilter(0.0, 1e-5)
+{
+}
+
+template <int N>
+BoxFilter<N>::BoxFilter(double duration_s, double period_s)
+{
+  if (!(std::isfinite(duration_s) && duration_s >= 0.0) || !(std::isfinite(period_s) && period_s > 0.0))
+  {
+    std::ostringstream msg;
+    msg << "BoxFilter: duration must be >= 0 and period > 0 (got duration " << duration_s << " s, period "
+        << period_s << " s)";
+    throw ConfigError(msg.str());
+  }
+  period_s_ = period_s;
+  double ratio = duration_s / period_s;  // T/Ts = m + f
+  const double nearest = std::round(ratio);
+  if (std::abs(ratio - nearest) <= 1e-9 * std::max(1.0, ratio))
+  {
+    ratio = nearest;  // 260e-6/1e-5 is 25.999999999999996 in double: it means 26 periods
+  }
+  whole_ = static_cast<std::size_t>(std::floor(ratio));
+  frac_ = ratio - static_cast<double>(whole_);
+  identity_ = (ratio == 0.0);
+  duration_s_ = ratio * period_s;
+  taps_ = whole_ + 2;
+
+  // w[k] multiplies x_{n−k}: trapezoids over the m whole periods, exact partial trapezoid
+  // over the fraction f (from x(t_n − T) = (1−f)·x_{n−m} + f·x_{n−m−1} to x_{n−m}).
+  std::vector<double> w(taps_, 0.0);
+  if (identity_)
+  {
+    w[0] = 1.0;
+  }
+  else
+  {
+    for (std::size_t k = 0; k < whole_; ++k)
+    {
+      w[k] += 0.5;
+      w[k + 1] += 0.5;
+    }
+    w[whole_] += frac_ - 0.5 * frac_ * frac_;
+    w[whole_ + 1] += 0.5 * frac_ * frac_;
+    for (double& wk : w)
+    {
+      wk /= ratio;
+    }
+  }
+  weights_.assign(taps_, 0.0);
+  for (std::size_t j = 0; j < taps_; ++j)
+  {
+    weights_[j] = w[taps_ - 1 - j];
+  }
+  buffer_.resize(N, static_cast<Eigen::Index>(2 * taps_));
+  reset(Vector::Zero());
+}
+
+template <int N>
+void BoxFilter<N>::reset(const Vector& initial)
+{
+  for (Eigen::Index c = 0; c < buffer_.cols(); ++c)
+  {
+    buffer_.col(c) = initial;
+  }
+  head_ = 0;
+}
+
+template class BoxFilter<1>;
+template class BoxFilter<2>;
+template class BoxFilter<4>;
+}  // namespace scanhead

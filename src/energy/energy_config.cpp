@@ -1,0 +1,50 @@
+/// \file energy_config.cpp
+#include "scanhead/energy/energy_config.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "scanhead/common/config_check.hpp"
+#include "scanhead/energy/map_regions.hpp"
+#include "scanhead/common/errors.hpp"
+
+namespace scanhead
+{
+void EnergyConfig::validate() const
+{
+  requireSetting(spot_diameter_m > 0.0, "energy.spot_diameter_m", "> 0", spot_diameter_m);
+  requireSetting(pixel_m > 0.0, "energy.pixel_m", "> 0", pixel_m);
+  requireSetting(max_substep_radii > 0.0, "energy.max_substep_radii", "> 0", max_substep_radii);
+  // Below one radius the truncated footprint misrepresents the spot (1-D tail mass beyond w: 4.6 %).
+  requireSetting(truncation_radii >= 1.0, "energy.truncation_radii", ">= 1", truncation_radii);
+  requireSetting(map_margin_m >= 0.0, "energy.map_margin_m", ">= 0", map_margin_m);
+  requireSetting(corner_min_angle_deg >= 0.0 && corner_min_angle_deg < 180.0, "energy.corner_min_angle_deg",
+          "in [0, 180)", corner_min_angle_deg);
+  requireSetting(laser_path_tolerance_m > 0.0, "energy.laser_path_tolerance_m", "> 0", laser_path_tolerance_m);
+  requireSetting(track_exclude_ends_m >= 0.0, "energy.track_exclude_ends_m", ">= 0", track_exclude_ends_m);
+  requireSetting(track_max_samples >= 1, "energy.track_max_samples", ">= 1", static_cast<double>(track_max_samples));
+  requireSetting(tile_cache_bytes >= 1048576, "energy.tile_cache_bytes", ">= 1048576 (1 MiB)",
+                 static_cast<double>(tile_cache_bytes));
+  if (defocus_mode != "none" && defocus_mode != "fixed" && defocus_mode != "field")
+    throw ConfigError("energy.defocus_mode must be none, fixed or field (got '" + defocus_mode + "')");
+  requireSetting(std::isfinite(defocus_m), "energy.defocus_m", "finite", defocus_m);
+  requireSetting(focus_distance_m > 0.0, "energy.focus_distance_m", "> 0", focus_distance_m);
+  requireSetting(wavelength_m > 0.0, "energy.wavelength_m", "> 0", wavelength_m);
+  requireSetting(beam_quality_m2 >= 1.0, "energy.beam_quality_m2", ">= 1", beam_quality_m2);
+  // 30-bit point ids of the nearest-path index (contour_error.hpp).
+  requireSetting(contour_max_samples <= (std::size_t(1) << 30), "energy.contour_max_samples", "<= 2^30 = 1073741824",
+                 static_cast<double>(contour_max_samples));
+  requireSetting(std::isfinite(contour_lag_s) && contour_lag_s < 1.0, "energy.contour_lag_s",
+                 "finite and < 1 s (< 0: filter + servo delay)", contour_lag_s);
+  requireSetting(same_instant_window_s >= 0.0 && same_instant_window_s <= 0.01, "energy.same_instant_window_s",
+                 "in [0, 0.01] s", same_instant_window_s);
+  parseMapRegions(crop_regions);  // a bad crop is reported before the run, not after it
+}
+
+double EnergyConfig::rayleighLength() const
+{
+  const double w0 = 0.5 * spot_diameter_m;
+  return M_PI * w0 * w0 / (beam_quality_m2 * wavelength_m);
+}
+}  // namespace scanhead

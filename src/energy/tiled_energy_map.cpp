@@ -1,0 +1,378 @@
+/// \file tiled_energy_map.cpp
+/// \brief Sparse tiled energy map with a bounded cache and a spill file.
+#include "scanhead/energy/tiled_energy_map.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+
+#include "scanhead/common/errors.hpp"
+
+namespace scanhead
+{
+namespace
+{
+constexpr std::int64_t kTilePixels = static_cast<std::int64_t>(TiledEnergyMap::kTileSide) * TiledEnergyMap::kTileSide;
+constexpr std::size_t kTileBytes = static_cast<std::size_t>(kTilePixels) * sizeof(float);
+constexpr std::size_t kMinResidentTiles = 16;
+
+std::string ioError(const std::string& what, const std::string& dir)
+{
+  return "energy map: cannot " + what + " the tile spill file in " + dir + " (" + std::strerror(errno) +
+         "): check energy.spill_dir (or TMPDIR) and its free space, or raise energy.tile_cache_bytes";
+}
+}  // namespace
+
+TiledEnergyMap::TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m,
+                               std::size_t cache_bytes, std::string spill_dir)
+  : origin_(min_corner), pixel_(pixel_m), spill_dir_(std::move(spill_dir))
+{
+  checkMapGeometry(min_corner, max_corner, pixel_m);
+  const double extent = std::max(max_corner.x() - min_corner.x(), max_corner.y() - min_corner.y());
+  if (extent / pixel_m > 1e9)
+  {
+    std::ostringstream msg;
+    msg << "energy.pixel_m = " << pixel_m << " m is too fine for a " << extent << " m map (over 1e9 pixels a side)";
+    throw ConfigError(msg.str());
+  }
+  width_ = static_cast<std::int64_t>(pixelsAcross(max_corner.x() - min_corner.x(), pixel_m));
+  height_ = static_cast<std::int64_t>(pixelsAcross(max_corner.y() - min_corner.y(), pixel_m));
+  tiles_x_ = (width_ + kTileSide - 1) / kTileSide;
+  tiles_y_ = (height_ + kTileSide - 1) / kTileSide;
+  if (static_cast<double>(tiles_x_) * static_cast<double>(tiles_y_) > 2147483647.0)
+  {
+    std::ostringstream msg;
+    msg << "energy.pixel_m = " << pixel_m << " m gives " << tiles_x_ << " x " << tiles_y_
+        << " tiles (limit 2^31): increase energy.pixel_m or reduce the job extent";
+    throw ConfigError(msg.str());
+  }
+  max_resident_ = std::max(kMinResidentTiles, cache_bytes / kTileBytes);
+  slot_of_tile_.assign(static_cast<std::size_t>(tiles_x_ * tiles_y_), -1);
+}
+
+TiledEnergyMap::~TiledEnergyMap()
+{
+  if (spill_fd_ >= 0)
+    ::close(spill_fd_);
+}
+
+TiledEnergyMap::TiledEnergyMap(TiledEnergyMap&& other) noexcept
+{
+  *this = std::move(other);
+}
+
+TiledEnergyMap& TiledEnergyMap::operator=(TiledEnergyMap&& other) noexcept
+{
+  if (this != &other)
+  {
+    if (spill_fd_ >= 0)
+      ::close(spill_fd_);
+    origin_ = other.origin_;
+    pixel_ = other.pixel_;
+    width_ = other.width_;
+    height_ = other.height_;
+    tiles_x_ = other.tiles_x_;
+    tiles_y_ = other.tiles_y_;
+    max_resident_ = other.max_resident_;
+    slot_of_tile_ = std::move(other.slot_of_tile_);
+    slots_ = std::move(other.slots_);
+    buffers_ = std::move(other.buffers_);
+    free_buffers_ = std::move(other.free_buffers_);
+    resident_ = other.resident_;
+    peak_resident_ = other.peak_resident_;
+    spilled_tiles_ = other.spilled_tiles_;
+    clock_ = other.clock_;
+    spill_dir_ = std::move(other.spill_dir_);
+    spill_fd_ = other.spill_fd_;
+    spill_end_ = other.spill_end_;
+    summary_valid_ = other.summary_valid_;
+    total_ = other.total_;
+    peak_ = other.peak_;
+    // The source is left an empty map of no pixels (safe to read, nothing to free twice).
+    other.spill_fd_ = -1;
+    other.width_ = other.height_ = other.tiles_x_ = other.tiles_y_ = 0;
+    other.slot_of_tile_.clear();
+    other.slots_.clear();
+    other.free_buffers_.clear();
+    other.resident_ = other.spilled_tiles_ = 0;
+    other.spill_end_ = 0;
+    other.summary_valid_ = false;
+    hot_tile_ = -1;
+    other.hot_tile_ = -1;
+  }
+  return *this;
+}
+
+std::string TiledEnergyMap::spillDir() const
+{
+  const char* tmpdir = std::getenv("TMPDIR");
+  return !spill_dir_.empty() ? spill_dir_ : tmpdir != nullptr && *tmpdir != '\0' ? tmpdir : "/tmp";
+}
+
+void TiledEnergyMap::spill(Slot& slot) const
+{
+  if (spill_fd_ < 0)
+  {
+    const std::string dir = spillDir();
+    std::string path = dir + "/scanhead_tiles_XXXXXX";
+    spill_fd_ = ::mkstemp(path.data());
+    if (spill_fd_ < 0)
+      throw InputError(ioError("create", dir));
+    ::unlink(path.c_str());  // the space is freed when the file is closed, even by a crash
+  }
+  if (slot.file_offset < 0)
+  {
+    slot.file_offset = spill_end_;
+    spill_end_ += static_cast<std::int64_t>(kTileBytes);
+    ++spilled_tiles_;
+  }
+  if (slot.dirty)  // a tile only read since it came back is already in the file
+  {
+    const ssize_t n = ::pwrite(spill_fd_, slot.data, kTileBytes, slot.file_offset);
+    if (n != static_cast<ssize_t>(kTileBytes))
+      throw InputError(ioError("write", spillDir()));
+    slot.dirty = false;
+  }
+  free_buffers_.push_back(slot.data);
+  slot.data = nullptr;
+  --resident_;
+}
+
+void TiledEnergyMap::load(Slot& slot) const
+{
+  makeRoom();
+  slot.data = free_buffers_.back();
+  free_buffers_.pop_back();
+  ++resident_;
+  readSpilled(slot, slot.data);
+  slot.dirty = false;
+}
+
+void TiledEnergyMap::readSpilled(const Slot& slot, float* to) const
+{
+  const ssize_t n = ::pread(spill_fd_, to, kTileBytes, slot.file_offset);
+  if (n != static_cast<ssize_t>(kTileBytes))
+    throw InputError(ioError("read", spillDir()));
+}
+
+void TiledEnergyMap::makeRoom() const
+{
+  hot_tile_ = -1;  // a spill or a new buffer may move the hot tile
+  if (resident_ >= max_resident_)
+  {
+    // Spill the least recently used eighth at once: the sort is paid every max/8 misses, not on each.
+    std::vector<Slot*> resident;
+    resident.reserve(resident_);
+    for (Slot& s : slots_)
+      if (s.data != nullptr)
+        resident.push_back(&s);
+    const std::size_t count = std::max<std::size_t>(1, resident.size() / 8);
+    std::nth_element(resident.begin(), resident.begin() + static_cast<std::ptrdiff_t>(count - 1), resident.end(),
+                     [](const Slot* a, const Slot* b) { return a->last_use < b->last_use; });
+    for (std::size_t k = 0; k < count; ++k)
+      spill(*resident[k]);
+  }
+  if (free_buffers_.empty())
+  {
+    buffers_.emplace_back(new float[kTilePixels]);
+    free_buffers_.push_back(buffers_.back().get());
+  }
+  peak_resident_ = std::max(peak_resident_, resident_ + 1);
+}
+
+float* TiledEnergyMap::tileForWrite(std::int64_t tile) const
+{
+  float* data = residentTile(tile);
+  summary_valid_ = false;
+  slots_[hot_slot_].dirty = true;
+  hot_written_ = true;
+  return data;
+}
+
+float* TiledEnergyMap::residentTile(std::int64_t tile) const
+{
+  if (tile == hot_tile_)
+    return hot_data_;
+  std::int32_t& index = slot_of_tile_[static_cast<std::size_t>(tile)];
+  if (index < 0)
+  {
+    makeRoom();
+    Slot slot;
+    slot.data = free_buffers_.back();
+    free_buffers_.pop_back();
+    std::fill(slot.data, slot.data + kTilePixels, 0.0f);
+    ++resident_;
+    index = static_cast<std::int32_t>(slots_.size());
+    slots_.push_back(slot);
+  }
+  Slot& slot = slots_[static_cast<std::size_t>(index)];
+  slot.last_use = ++clock_;
+  if (slot.data == nullptr)
+    load(slot);
+  hot_tile_ = tile;
+  hot_slot_ = static_cast<std::size_t>(index);
+  hot_data_ = slot.data;
+  hot_written_ = false;
+  return slot.data;
+}
+
+const float* TiledEnergyMap::tileForRead(std::int64_t tile, float* scratch) const
+{
+  const std::int32_t index = slot_of_tile_[static_cast<std::size_t>(tile)];
+  if (index < 0)
+    return nullptr;
+  const Slot& slot = slots_[static_cast<std::size_t>(index)];
+  if (slot.data != nullptr)
+    return slot.data;
+  readSpilled(slot, scratch);
+  return scratch;
+}
+
+float TiledEnergyMap::at(std::int64_t col, std::int64_t row) const
+{
+  if (col < 0 || row < 0 || col >= width_ || row >= height_)
+    return 0.0f;
+  const std::int64_t tile = (row / kTileSide) * tiles_x_ + col / kTileSide;
+  if (slot_of_tile_[static_cast<std::size_t>(tile)] < 0)
+    return 0.0f;
+  // Through the cache: lookups along a track come back to the same tiles.
+  const float* data = residentTile(tile);
+  return data[(row % kTileSide) * kTileSide + col % kTileSide];
+}
+
+void TiledEnergyMap::addRow(std::int64_t row, std::int64_t col, const float* x, float c, int n)
+{
+  const std::int64_t tile_row = (row / kTileSide) * tiles_x_;
+  const std::int64_t in_row = (row % kTileSide) * kTileSide;
+  int done = 0;
+  while (done < n)
+  {
+    const std::int64_t column = col + done;
+    const std::int64_t in_col = column % kTileSide;
+    const int count = static_cast<int>(std::min<std::int64_t>(n - done, kTileSide - in_col));
+    const std::int64_t tile = tile_row + column / kTileSide;
+    float* y = (tile == hot_tile_ && hot_written_ ? hot_data_ : tileForWrite(tile)) + in_row + in_col;
+    axpyRow(y, x + done, c, count);
+    done += count;
+  }
+}
+
+void TiledEnergyMap::forEachTile(const std::function<void(std::int64_t, std::int64_t, const float*)>& f) const
+{
+  std::vector<float> scratch(static_cast<std::size_t>(kTilePixels));
+  for (std::int64_t tile = 0; tile < tiles_x_ * tiles_y_; ++tile)
+  {
+    const float* data = tileForRead(tile, scratch.data());
+    if (data != nullptr)
+      f(tile % tiles_x_, tile / tiles_x_, data);
+  }
+}
+
+void TiledEnergyMap::summarise() const
+{
+  // One pass over every tile (a whole layer's spill file is read once, not once per figure).
+  double total = 0.0;
+  float peak = 0.0f;
+  forEachTile([&](std::int64_t, std::int64_t, const float* data) {
+    // Eight partial sums and maxima in a fixed order: deterministic, and the adds overlap.
+    double sums[8] = {};
+    float maxima[8] = {};
+    for (std::int64_t i = 0; i < kTilePixels; i += 8)
+      for (int k = 0; k < 8; ++k)
+      {
+        sums[k] += data[i + k];
+        maxima[k] = data[i + k] > maxima[k] ? data[i + k] : maxima[k];
+      }
+    for (int k = 0; k < 8; ++k)
+    {
+      total += sums[k];
+      peak = std::max(peak, maxima[k]);
+    }
+  });
+  total_ = total * pixel_ * pixel_;
+  peak_ = peak;
+  summary_valid_ = true;
+}
+
+double TiledEnergyMap::totalEnergy() const
+{
+  if (!summary_valid_)
+    summarise();
+  return total_;
+}
+
+double TiledEnergyMap::peak() const
+{
+  if (!summary_valid_)
+    summarise();
+  return peak_;
+}
+
+void TiledEnergyMap::clear()
+{
+  std::fill(slot_of_tile_.begin(), slot_of_tile_.end(), -1);
+  for (Slot& s : slots_)
+    if (s.data != nullptr)
+      free_buffers_.push_back(s.data);
+  slots_.clear();
+  hot_tile_ = -1;
+  resident_ = 0;
+  spilled_tiles_ = 0;
+  spill_end_ = 0;
+  summary_valid_ = false;
+}
+
+EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int64_t w, std::int64_t h,
+                                 int factor) const
+{
+  const std::int64_t c0 = std::clamp<std::int64_t>(col0, 0, std::max<std::int64_t>(0, width_ - 1));
+  const std::int64_t r0 = std::clamp<std::int64_t>(row0, 0, std::max<std::int64_t>(0, height_ - 1));
+  const std::int64_t c1 = std::clamp<std::int64_t>(col0 + w, c0 + 1, std::max<std::int64_t>(c0 + 1, width_));
+  const std::int64_t r1 = std::clamp<std::int64_t>(row0 + h, r0 + 1, std::max<std::int64_t>(r0 + 1, height_));
+  const std::int64_t f = std::max(1, factor);
+  const std::int64_t out_w = (c1 - c0 + f - 1) / f, out_h = (r1 - r0 + f - 1) / f;
+  const double big = pixel_ * static_cast<double>(f);
+  const Eigen::Vector2d lo = origin_ + pixel_ * Eigen::Vector2d(static_cast<double>(c0), static_cast<double>(r0));
+  EnergyMap out(lo, lo + big * Eigen::Vector2d(static_cast<double>(out_w), static_cast<double>(out_h)), big);
+  // Sums in double per output pixel, tile by tile in tile order (deterministic), then the block mean.
+  std::vector<double> sum(static_cast<std::size_t>(out.width()) * static_cast<std::size_t>(out.height()), 0.0);
+  std::vector<float> scratch(static_cast<std::size_t>(kTilePixels));
+  for (std::int64_t tj = r0 / kTileSide; tj <= (r1 - 1) / kTileSide && tj < tiles_y_; ++tj)
+    for (std::int64_t ti = c0 / kTileSide; ti <= (c1 - 1) / kTileSide && ti < tiles_x_; ++ti)
+    {
+      const float* data = tileForRead(tj * tiles_x_ + ti, scratch.data());
+      if (data == nullptr)
+        continue;
+      const std::int64_t rr0 = std::max(r0, tj * kTileSide), rr1 = std::min(r1, (tj + 1) * kTileSide);
+      const std::int64_t cc0 = std::max(c0, ti * kTileSide), cc1 = std::min(c1, (ti + 1) * kTileSide);
+      for (std::int64_t r = rr0; r < rr1; ++r)
+      {
+        const float* in = data + (r - tj * kTileSide) * kTileSide - ti * kTileSide;
+        double* out_row = sum.data() + static_cast<std::size_t>((r - r0) / f) * static_cast<std::size_t>(out.width());
+        for (std::int64_t c = cc0; c < cc1; ++c)
+          out_row[(c - c0) / f] += in[c];
+      }
+    }
+  const double inv = 1.0 / static_cast<double>(f * f);
+  for (int r = 0; r < out.height(); ++r)
+    for (int c = 0; c < out.width(); ++c)
+      out.row(r)[c] = static_cast<float>(sum[static_cast<std::size_t>(r) * static_cast<std::size_t>(out.width()) + c] * inv);
+  return out;
+}
+
+int TiledEnergyMap::blockFactor(std::int64_t w, std::int64_t h, int max_side)
+{
+  const std::int64_t side = std::max(w, h), m = std::max(1, max_side);
+  return static_cast<int>(std::max<std::int64_t>(1, (side + m - 1) / m));
+}
+
+std::size_t TiledEnergyMap::peakResidentBytes() const
+{
+  return peak_resident_ * kTileBytes + slot_of_tile_.size() * sizeof(std::int32_t) + slots_.capacity() * sizeof(Slot);
+}
+}  // namespace scanhead

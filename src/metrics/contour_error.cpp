@@ -1,0 +1,611 @@
+/// \file contour_error.cpp
+/// \brief Nearest-path index, same-instant distance and contour error statistics (SPEC §5).
+#include "scanhead/metrics/contour_error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <tuple>
+
+#include "scanhead/common/errors.hpp"
+#include "scanhead/common/segment_distance.hpp"
+
+namespace scanhead
+{
+namespace
+{
+constexpr std::uint32_t kChildFlag = 0x80000000u;  ///< item is a refined cell: low bits = grid index
+constexpr std::uint32_t kPointFlag = 0x40000000u;  ///< segment of zero length (the point alone)
+constexpr std::uint32_t kIdMask = 0x3fffffffu;
+constexpr std::size_t kMaxPoints = std::size_t(1) << 30;
+
+constexpr std::size_t kMaxCellsPerGrid = 4096;
+constexpr double kTargetPerCell = 4.0;     ///< segments per cell a grid is sized for
+constexpr std::size_t kRefineAbove = 12;   ///< a leaf with more segments is refined if that helps
+constexpr std::size_t kDeduplicateAbove = 8;
+constexpr int kMaxDepth = 10;
+constexpr double kPmPerM = 1e12;
+constexpr std::uint64_t kPmPerBin = 1000000;  ///< kBinWidth_m in pm
+
+std::string text(double v)
+{
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
+std::string pointText(const Eigen::Vector2d& p)
+{
+  return "(" + text(p.x()) + ", " + text(p.y()) + ")";
+}
+
+/// Distance from p to the box [x0, x1] × [y0, y1] (0 inside).
+inline double boxDistance(const Eigen::Vector2d& p, double x0, double y0, double x1, double y1)
+{
+  const double dx = std::max({x0 - p.x(), p.x() - x1, 0.0});
+  const double dy = std::max({y0 - p.y(), p.y() - y1, 0.0});
+  return std::sqrt(dx * dx + dy * dy);
+}
+
+/// Cell of coordinate v along an axis of n cells from lo, clamped to [0, n−1].
+inline std::uint32_t cellOf(double v, double lo, double inv_cell, std::uint32_t n)
+{
+  const double u = (v - lo) * inv_cell;
+  if (!(u > 0.0))
+    return 0;
+  if (u >= static_cast<double>(n))
+    return n - 1;
+  return std::min(static_cast<std::uint32_t>(u), n - 1);
+}
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// PathPoints
+
+PathPoints::PathPoints(const Eigen::Vector2d& origin) : origin_(origin)
+{
+  if (!origin.allFinite())
+    throw InputError("contour error: path origin " + pointText(origin) + " m is not finite");
+}
+
+void PathPoints::reserve(std::size_t points)
+{
+  xy_.reserve(2 * points);
+  break_after_.reserve(points / 64 + 1);
+}
+
+void PathPoints::add(const Eigen::Vector2d& p)
+{
+  const std::size_t i = size();
+  if (!p.allFinite())
+    throw InputError("contour error: actual path point " + std::to_string(i) + " " + pointText(p) + " m is not finite");
+  const Eigen::Vector2d u = p - origin_;
+  const float fx = static_cast<float>(u.x());
+  const float fy = static_cast<float>(u.y());
+  if (!std::isfinite(fx) || !std::isfinite(fy))
+  {
+    throw InputError("contour error: actual path point " + std::to_string(i) + " " + pointText(p) +
+                     " m is too far from the origin to be stored as a float offset");
+  }
+  if ((i & 63) == 0)
+    break_after_.push_back(0);
+  xy_.push_back(fx);
+  xy_.push_back(fy);
+}
+
+void PathPoints::breakPath()
+{
+  if (empty())
+    return;
+  const std::size_t last = size() - 1;
+  break_after_[last >> 6] |= std::uint64_t(1) << (last & 63);
+}
+
+std::size_t PathPoints::memoryBytes() const
+{
+  return sizeof(*this) + xy_.capacity() * sizeof(float) + break_after_.capacity() * sizeof(std::uint64_t);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Brute force and same instant
+
+double nearestPathDistanceBruteForce(const PathPoints& path, const Eigen::Vector2d& p)
+{
+  double best = std::numeric_limits<double>::infinity();
+  const std::size_t n = path.size();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (path.joinsNext(i))
+      best = std::min(best, pointSegmentDistance(p, path.point(i), path.point(i + 1)));
+    else if (i == 0 || !path.joinsNext(i - 1))
+      best = std::min(best, (path.point(i) - p).norm());  // isolated point
+  }
+  return best;
+}
+
+double sameInstantDistance(const PathPoints& path, std::size_t j, const Eigen::Vector2d& p)
+{
+  if (j >= path.size())
+  {
+    throw InputError("contour error: same-instant sample " + std::to_string(j) + " is beyond the actual path (" +
+                     std::to_string(path.size()) + " points)");
+  }
+  if (!p.allFinite())
+    throw InputError("contour error: commanded point " + pointText(p) + " m is not finite");
+  const Eigen::Vector2d pj = path.point(j);
+  const bool before = j > 0 && path.joinsNext(j - 1);
+  const bool after = path.joinsNext(j);
+  if (!before && !after)
+    return (pj - p).norm();
+  double best = std::numeric_limits<double>::infinity();
+  if (before)
+    best = pointSegmentDistance(p, path.point(j - 1), pj);
+  if (after)
+    best = std::min(best, pointSegmentDistance(p, pj, path.point(j + 1)));
+  return best;
+}
+
+// ---------------------------------------------------------------------------------------------
+// NearestPathIndex
+
+struct NearestPathIndex::Box
+{
+  double x0, y0, x1, y1;
+};
+
+namespace
+{
+/// Liang–Barsky: the parameter range [t0, t1] ⊂ [0, 1] of a + t·d inside [lo, hi] along one axis.
+inline bool clipAxis(double a, double d, double lo, double hi, double& t0, double& t1)
+{
+  if (d == 0.0)
+    return a >= lo && a <= hi;
+  double ta = (lo - a) / d;
+  double tb = (hi - a) / d;
+  if (ta > tb)
+    std::swap(ta, tb);
+  t0 = std::max(t0, ta);
+  t1 = std::min(t1, tb);
+  return t0 <= t1;
+}
+
+/// Calls f(cell) for every cell of the nx × ny grid (corner x0, y0, side h) that the segment
+/// [a, b] crosses or passes within \p margin of (conservative supercover).
+template <class F>
+void forEachCell(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double x0, double y0, double h, double inv,
+                 std::uint32_t nx, std::uint32_t ny, double margin, F&& f)
+{
+  const Eigen::Vector2d d = b - a;
+  double t0 = 0.0, t1 = 1.0;
+  if (!clipAxis(a.x(), d.x(), x0 - margin, x0 + nx * h + margin, t0, t1) ||
+      !clipAxis(a.y(), d.y(), y0 - margin, y0 + ny * h + margin, t0, t1))
+    return;
+  const Eigen::Vector2d c0 = a + t0 * d;
+  const Eigen::Vector2d c1 = a + t1 * d;
+  const std::uint32_t j0 = cellOf(std::min(c0.y(), c1.y()) - margin, y0, inv, ny);
+  const std::uint32_t j1 = cellOf(std::max(c0.y(), c1.y()) + margin, y0, inv, ny);
+  for (std::uint32_t j = j0; j <= j1; ++j)
+  {
+    double xa = std::min(c0.x(), c1.x());
+    double xb = std::max(c0.x(), c1.x());
+    if (j0 != j1 && d.y() != 0.0)
+    {
+      // Part of the clipped segment inside row j's slab (widened by the margin).
+      double s0 = t0, s1 = t1;
+      if (!clipAxis(a.y(), d.y(), y0 + j * h - margin, y0 + (j + 1) * h + margin, s0, s1))
+        continue;
+      const double u0 = a.x() + s0 * d.x();
+      const double u1 = a.x() + s1 * d.x();
+      xa = std::min(u0, u1);
+      xb = std::max(u0, u1);
+    }
+    const std::uint32_t i0 = cellOf(xa - margin, x0, inv, nx);
+    const std::uint32_t i1 = cellOf(xb + margin, x0, inv, nx);
+    for (std::uint32_t i = i0; i <= i1; ++i)
+      f(static_cast<std::size_t>(j) * nx + i);
+  }
+}
+}  // namespace
+
+inline void NearestPathIndex::elementEnds(std::uint32_t element, Eigen::Vector2d& a, Eigen::Vector2d& b) const
+{
+  const std::size_t i = element & kIdMask;
+  a = path_->point(i);
+  b = (element & kPointFlag) ? a : path_->point(i + 1);
+}
+
+inline double NearestPathIndex::elementDistance(std::uint32_t element, const Eigen::Vector2d& p) const
+{
+  const std::size_t i = element & kIdMask;
+  if (element & kPointFlag)
+    return (path_->point(i) - p).norm();
+  return pointSegmentDistance(p, path_->point(i), path_->point(i + 1));
+}
+
+NearestPathIndex::NearestPathIndex(const PathPoints& path) : path_(&path), path_points_(path.size())
+{
+  const std::size_t n = path.size();
+  if (n > kMaxPoints)
+  {
+    throw InputError("contour error: actual path of " + std::to_string(n) + " points is too long for the index (max " +
+                     std::to_string(kMaxPoints) + ")");
+  }
+  // Elements: segment i → i+1, or the isolated point i. A zero-length segment whose point ends the
+  // previous segment adds nothing (by induction on i, the previous point is always covered).
+  std::vector<std::uint32_t> elements;
+  elements.reserve(n);
+  Box box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+          -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const Eigen::Vector2d a = path.point(i);
+    const bool joins = path.joinsNext(i);
+    const bool zero_length = !joins || path.point(i + 1) == a;
+    if (zero_length && i > 0 && path.joinsNext(i - 1))
+      continue;
+    elements.push_back(static_cast<std::uint32_t>(i) | (zero_length ? kPointFlag : 0u));
+    const Eigen::Vector2d b = zero_length ? a : path.point(i + 1);
+    box.x0 = std::min({box.x0, a.x(), b.x()});
+    box.y0 = std::min({box.y0, a.y(), b.y()});
+    box.x1 = std::max({box.x1, a.x(), b.x()});
+    box.y1 = std::max({box.y1, a.y(), b.y()});
+  }
+  indexed_segments_ = elements.size();
+  if (elements.empty())
+    return;
+  duplicate_budget_ = 2 * elements.size();
+  buildGrid(elements, box, 0, true);
+}
+
+bool NearestPathIndex::buildGrid(const std::vector<std::uint32_t>& elements, const Box& region, int depth, bool top)
+{
+  const double k = static_cast<double>(elements.size());
+  const double w = region.x1 - region.x0;
+  const double hgt = region.y1 - region.y0;
+  double l1 = 0.0;
+  for (std::uint32_t e : elements)
+  {
+    Eigen::Vector2d a, b;
+    elementEnds(e, a, b);
+    l1 += std::min(std::abs(b.x() - a.x()), w) + std::min(std::abs(b.y() - a.y()), hgt);
+  }
+  const double cells = std::clamp(k / kTargetPerCell, 1.0, static_cast<double>(kMaxCellsPerGrid));
+  double h = std::max({std::sqrt(w * hgt / cells), std::max(w, hgt) / cells, l1 / (3.0 * k)});
+  if (!(h > 0.0))
+    h = 1.0;  // every element at one point: one cell
+  // h ≥ extent / cells: at most kMaxCellsPerGrid + 1 cells along an axis, and they cover the region.
+  const auto axisCells = [&](double extent) { return static_cast<std::uint32_t>(std::floor(extent / h) + 1.0); };
+  Grid g;
+  g.x0 = region.x0;
+  g.y0 = region.y0;
+  g.cell_m = h;
+  g.inv_cell = 1.0 / h;
+  g.nx = axisCells(w);
+  g.ny = axisCells(hgt);
+  g.rx0 = region.x0;
+  g.ry0 = region.y0;
+  g.rx1 = region.x1;
+  g.ry1 = region.y1;
+  const std::size_t ncells = static_cast<std::size_t>(g.nx) * g.ny;
+  if (!top && ncells < 2)
+    return false;
+  const double margin = 1e-6 * h + 1e-15 * (std::abs(g.x0) + std::abs(g.y0) + w + hgt);
+
+  // Counting sort, pass 1: ids per cell.
+  std::vector<std::uint32_t> start(ncells + 1, 0);
+  for (std::uint32_t e : elements)
+  {
+    Eigen::Vector2d a, b;
+    elementEnds(e, a, b);
+    forEachCell(a, b, g.x0, g.y0, h, g.inv_cell, g.nx, g.ny, margin, [&](std::size_t c) { ++start[c + 1]; });
+  }
+  std::size_t total = 0, most = 0;
+  for (std::size_t c = 0; c < ncells; ++c)
+  {
+    most = std::max<std::size_t>(most, start[c + 1]);
+    total += start[c + 1];
+    start[c + 1] = static_cast<std::uint32_t>(total);
+    if (total > std::numeric_limits<std::uint32_t>::max())
+      throw InputError("contour error: actual path too large for the index (more than 2^32 cell entries)");
+  }
+  if (!top)
+  {
+    // Refine only if it splits the cell's contents and the duplicates fit the budget.
+    const std::size_t extra = total > elements.size() ? total - elements.size() : 0;
+    if (most >= elements.size() || extra > duplicate_budget_)
+      return false;
+    duplicate_budget_ -= extra;
+  }
+  // Pass 2: fill.
+  std::vector<std::uint32_t> sorted(total);
+  {
+    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+    for (std::uint32_t e : elements)
+    {
+      Eigen::Vector2d a, b;
+      elementEnds(e, a, b);
+      forEachCell(a, b, g.x0, g.y0, h, g.inv_cell, g.nx, g.ny, margin, [&](std::size_t c) { sorted[next[c]++] = e; });
+    }
+  }
+  g.first_offset = offsets_.size();
+  grids_.push_back(g);
+  offsets_.resize(offsets_.size() + ncells + 1);
+
+  std::vector<std::uint32_t> cell;
+  for (std::size_t c = 0; c < ncells; ++c)
+  {
+    const std::size_t here = items_.size();
+    if (here > std::numeric_limits<std::uint32_t>::max())
+      throw InputError("contour error: actual path too large for the index (more than 2^32 cell entries)");
+    offsets_[g.first_offset + c] = static_cast<std::uint32_t>(here);
+    cell.assign(sorted.begin() + start[c], sorted.begin() + start[c + 1]);
+    if (cell.empty())
+      continue;
+    // Refine a crowded cell; if that does not split it, drop repeated segments (a spot at rest)
+    // and try again.
+    const auto refine = [&]() {
+      if (cell.size() <= kRefineAbove || depth >= kMaxDepth)
+        return false;
+      // The cell's box (widened by the margin) ∩ the box of its segments holds every part of them
+      // that lies in this cell: the child grid covers that.
+      const std::size_t ci = c % g.nx, cj = c / g.nx;
+      Box sub{g.x0 + ci * h - margin, g.y0 + cj * h - margin, g.x0 + (ci + 1) * h + margin, g.y0 + (cj + 1) * h + margin};
+      Box ext{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+              -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+      for (std::uint32_t e : cell)
+      {
+        Eigen::Vector2d a, b;
+        elementEnds(e, a, b);
+        ext.x0 = std::min({ext.x0, a.x(), b.x()});
+        ext.y0 = std::min({ext.y0, a.y(), b.y()});
+        ext.x1 = std::max({ext.x1, a.x(), b.x()});
+        ext.y1 = std::max({ext.y1, a.y(), b.y()});
+      }
+      sub.x0 = std::max(sub.x0, ext.x0);
+      sub.y0 = std::max(sub.y0, ext.y0);
+      sub.x1 = std::min(sub.x1, ext.x1);
+      sub.y1 = std::min(sub.y1, ext.y1);
+      if (!(sub.x0 <= sub.x1 && sub.y0 <= sub.y1))
+        return false;
+      items_.push_back(kChildFlag | static_cast<std::uint32_t>(grids_.size()));
+      if (buildGrid(cell, sub, depth + 1, false))
+        return true;
+      items_.pop_back();
+      return false;
+    };
+    if (refine())
+      continue;
+    if (cell.size() > kDeduplicateAbove)
+    {
+      const std::size_t before = cell.size();
+      removeDuplicates(cell);
+      if (cell.size() < before && refine())
+        continue;
+    }
+    emitLeaf(cell);
+  }
+  offsets_[g.first_offset + ncells] = static_cast<std::uint32_t>(items_.size());
+  return true;
+}
+
+void NearestPathIndex::removeDuplicates(std::vector<std::uint32_t>& elements) const
+{
+  // Identical stored segments (a spot at rest, a trace repeated) are kept once; order kept.
+  using Key = std::tuple<double, double, double, double>;
+  std::vector<std::pair<Key, std::uint32_t>> keyed;
+  keyed.reserve(elements.size());
+  for (std::uint32_t e : elements)
+  {
+    Eigen::Vector2d a, b;
+    elementEnds(e, a, b);
+    if (std::make_pair(b.x(), b.y()) < std::make_pair(a.x(), a.y()))
+      std::swap(a, b);
+    keyed.emplace_back(Key{a.x(), a.y(), b.x(), b.y()}, e);
+  }
+  std::sort(keyed.begin(), keyed.end());
+  elements.clear();
+  for (std::size_t k = 0; k < keyed.size(); ++k)
+    if (k == 0 || keyed[k].first != keyed[k - 1].first)
+      elements.push_back(keyed[k].second);
+  std::sort(elements.begin(), elements.end());
+}
+
+void NearestPathIndex::emitLeaf(const std::vector<std::uint32_t>& elements)
+{
+  largest_leaf_ = std::max(largest_leaf_, elements.size());
+  items_.insert(items_.end(), elements.begin(), elements.end());
+}
+
+double NearestPathIndex::distance(const Eigen::Vector2d& p, double upper_bound_m, NearestPathWork* work) const
+{
+  if (!p.allFinite())
+    throw InputError("contour error: commanded point " + pointText(p) + " m is not finite");
+  if (!(upper_bound_m >= 0.0))
+    throw InputError("contour error: upper bound " + text(upper_bound_m) + " m is negative or NaN");
+  double best = upper_bound_m;
+  if (!grids_.empty())
+    search(0, p, best, work);
+  return best;
+}
+
+void NearestPathIndex::search(std::size_t grid, const Eigen::Vector2d& p, double& best, NearestPathWork* work) const
+{
+  const Grid& g = grids_[grid];
+  if (boxDistance(p, g.rx0, g.ry0, g.rx1, g.ry1) >= best)
+    return;
+  const double h = g.cell_m;
+  const long nx = g.nx, ny = g.ny;
+  const long ci = cellOf(p.x(), g.x0, g.inv_cell, g.nx);
+  const long cj = cellOf(p.y(), g.y0, g.inv_cell, g.ny);
+  const double ex1 = g.x0 + nx * h, ey1 = g.y0 + ny * h;
+  const auto visit = [&](long i, long j) {
+    if (boxDistance(p, g.x0 + i * h, g.y0 + j * h, g.x0 + (i + 1) * h, g.y0 + (j + 1) * h) < best)
+      visitCell(g, static_cast<std::size_t>(j * nx + i), p, best, work);
+  };
+  const long rmax = std::max({ci, nx - 1 - ci, cj, ny - 1 - cj});
+  for (long r = 0; r <= rmax; ++r)
+  {
+    const long ilo = std::max(ci - r, 0L), ihi = std::min(ci + r, nx - 1);
+    if (r > 0)
+    {
+      // Cells not yet read lie outside rings 0…r−1, i.e. in the strips of the grid around them.
+      const long ilo1 = std::max(ci - r + 1, 0L), ihi1 = std::min(ci + r - 1, nx - 1);
+      const long jlo1 = std::max(cj - r + 1, 0L), jhi1 = std::min(cj + r - 1, ny - 1);
+      const double sx0 = g.x0 + ilo1 * h, sx1 = g.x0 + (ihi1 + 1) * h;
+      const double sy0 = g.y0 + jlo1 * h, sy1 = g.y0 + (jhi1 + 1) * h;
+      double outside = std::numeric_limits<double>::infinity();
+      if (ilo1 > 0)
+        outside = std::min(outside, boxDistance(p, g.x0, g.y0, sx0, ey1));
+      if (ihi1 < nx - 1)
+        outside = std::min(outside, boxDistance(p, sx1, g.y0, ex1, ey1));
+      if (jlo1 > 0)
+        outside = std::min(outside, boxDistance(p, sx0, g.y0, sx1, sy0));
+      if (jhi1 < ny - 1)
+        outside = std::min(outside, boxDistance(p, sx0, sy1, sx1, ey1));
+      if (outside >= best)
+        break;
+    }
+    if (r == 0)
+    {
+      visit(ci, cj);
+      continue;
+    }
+    if (cj - r >= 0)
+      for (long i = ilo; i <= ihi; ++i)
+        visit(i, cj - r);
+    if (cj + r < ny)
+      for (long i = ilo; i <= ihi; ++i)
+        visit(i, cj + r);
+    const long jb = std::max(cj - r + 1, 0L), je = std::min(cj + r - 1, ny - 1);
+    if (ci - r >= 0)
+      for (long j = jb; j <= je; ++j)
+        visit(ci - r, j);
+    if (ci + r < nx)
+      for (long j = jb; j <= je; ++j)
+        visit(ci + r, j);
+  }
+}
+
+void NearestPathIndex::visitCell(const Grid& g, std::size_t cell, const Eigen::Vector2d& p, double& best,
+                                 NearestPathWork* work) const
+{
+  const std::uint32_t begin = offsets_[g.first_offset + cell];
+  const std::uint32_t end = offsets_[g.first_offset + cell + 1];
+  if (begin == end)
+    return;
+  if (work)
+    ++work->cells_visited;
+  if (items_[begin] & kChildFlag)
+  {
+    search(items_[begin] & ~kChildFlag, p, best, work);
+    return;
+  }
+  for (std::uint32_t k = begin; k < end; ++k)
+    best = std::min(best, elementDistance(items_[k], p));
+  if (work)
+    work->segments_tested += end - begin;
+}
+
+std::size_t NearestPathIndex::memoryBytes() const
+{
+  return sizeof(*this) + grids_.capacity() * sizeof(Grid) + offsets_.capacity() * sizeof(std::uint32_t) +
+         items_.capacity() * sizeof(std::uint32_t);
+}
+
+// ---------------------------------------------------------------------------------------------
+// ContourErrorStats
+
+void ContourErrorStats::add(double error_m)
+{
+  if (!(error_m >= 0.0) || error_m > kMaxError_m)
+  {
+    throw NumericalError("contour error: error " + text(error_m) + " m is NaN, negative or above " + text(kMaxError_m) +
+                         " m");
+  }
+  const auto q = static_cast<std::uint64_t>(std::llround(error_m * kPmPerM));
+  ++count_;
+  sum_pm_low_ += q;
+  if (sum_pm_low_ < q)
+    ++sum_pm_high_;
+  max_m_ = std::max(max_m_, error_m);
+  ++bins_[std::min<std::uint64_t>(q / kPmPerBin, kBins)];
+}
+
+void ContourErrorStats::merge(const ContourErrorStats& other)
+{
+  count_ += other.count_;
+  sum_pm_low_ += other.sum_pm_low_;
+  sum_pm_high_ += other.sum_pm_high_ + (sum_pm_low_ < other.sum_pm_low_ ? 1 : 0);
+  max_m_ = std::max(max_m_, other.max_m_);
+  for (std::size_t b = 0; b <= kBins; ++b)
+    bins_[b] += other.bins_[b];
+}
+
+double ContourErrorStats::mean() const
+{
+  if (count_ == 0)
+    return std::numeric_limits<double>::quiet_NaN();
+  const double sum_pm = static_cast<double>(sum_pm_high_) * 18446744073709551616.0 + static_cast<double>(sum_pm_low_);
+  return sum_pm / static_cast<double>(count_) / kPmPerM;
+}
+
+double ContourErrorStats::max() const
+{
+  return count_ == 0 ? std::numeric_limits<double>::quiet_NaN() : max_m_;
+}
+
+std::uint64_t ContourErrorStats::countUnder(double limit_m) const
+{
+  const double bins = limit_m / kBinWidth_m;
+  const double whole = std::round(bins);
+  if (!(std::abs(bins - whole) <= 1e-9) || whole < 0.0 || whole > static_cast<double>(kBins))
+  {
+    throw InputError("contour error: limit " + text(limit_m) + " m is not a multiple of the " + text(kBinWidth_m) +
+                     " m bin in [0, " + text(kBins * kBinWidth_m) + "] m");
+  }
+  std::uint64_t n = 0;
+  for (std::size_t b = 0; b < static_cast<std::size_t>(whole); ++b)
+    n += bins_[b];
+  return n;
+}
+
+double ContourErrorStats::shareUnder(double limit_m) const
+{
+  const std::uint64_t n = countUnder(limit_m);
+  return count_ == 0 ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(n) / static_cast<double>(count_);
+}
+
+std::uint64_t ContourErrorStats::binCount(std::size_t bin) const
+{
+  if (bin > kBins)
+    throw InputError("contour error: histogram bin " + std::to_string(bin) + " is beyond the overflow bin " +
+                     std::to_string(kBins));
+  return bins_[bin];
+}
+
+double ContourErrorStats::quantileUpperBound(double fraction) const
+{
+  if (!(fraction >= 0.0 && fraction <= 1.0))
+    throw InputError("contour error: quantile fraction " + text(fraction) + " is outside [0, 1]");
+  if (count_ == 0)
+    return std::numeric_limits<double>::quiet_NaN();
+  const auto rank = std::max<std::uint64_t>(
+      1, static_cast<std::uint64_t>(std::ceil(fraction * static_cast<double>(count_))));
+  std::uint64_t seen = 0;
+  for (std::size_t b = 0; b < kBins; ++b)
+  {
+    seen += bins_[b];
+    if (seen >= rank)
+      return std::min(static_cast<double>(b + 1) * kBinWidth_m, max_m_);
+  }
+  return max_m_;
+}
+
+bool ContourErrorStats::operator==(const ContourErrorStats& other) const
+{
+  return count_ == other.count_ && sum_pm_low_ == other.sum_pm_low_ && sum_pm_high_ == other.sum_pm_high_ &&
+         max_m_ == other.max_m_ && bins_ == other.bins_;
+}
+}  // namespace scanhead

@@ -1,0 +1,212 @@
+/// \file layer_quality.cpp
+#include "scanhead/metrics/layer_quality.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "scanhead/common/segment_distance.hpp"
+
+namespace scanhead
+{
+LayerQuality::LayerQuality(const EnergyConfig& config, const PathTimeline& timeline, const Job& job, double lag_s,
+                           std::uint64_t total_samples, const Eigen::Vector2d& min_corner,
+                           const Eigen::Vector2d& max_corner)
+  : config_(config)
+  , timeline_(timeline)
+  , fill_(min_corner, max_corner, config.spot_diameter_m)
+  , path_(min_corner)
+{
+  contour_polyline_.reserve(job.polylines.size());
+  for (const Polyline& line : job.polylines)
+    contour_polyline_.push_back(line.type == PolylineType::Mark && line.role == PolylineRole::Contour);
+  report_.lag_s = lag_s;
+  report_.layer_time_s = timeline.duration();
+  report_.fill_pitch_m = config.spot_diameter_m;
+  keep_path_ = total_samples <= config.contour_max_samples;
+  if (keep_path_)
+    path_.reserve(static_cast<std::size_t>(total_samples));
+  report_.nearest_measured = keep_path_;
+}
+
+LayerQuality::~LayerQuality() = default;
+
+LayerQuality::Command LayerQuality::commandAt(std::uint64_t k, PathTimeline::Cursor& cursor) const
+{
+  Command c;
+  if (k >= program_samples_)
+    return c;
+  const double t = static_cast<double>(k) * period_s_;
+  const std::size_t segment = timeline_.segmentAt(t, cursor);
+  c.point = timeline_.positionAt(t, cursor);
+  if (segment == PathTimeline::npos)
+    return c;
+  const PathSegment& s = timeline_.segments()[segment];
+  if (!s.mark)
+    c.kind = Kind::Jump;
+  else
+    c.kind = s.polyline < contour_polyline_.size() && contour_polyline_[s.polyline] ? Kind::Contour : Kind::Hatch;
+  c.speed_mps = s.dwell || s.delay ? 0.0 : s.speed_mps;
+  return c;
+}
+
+void LayerQuality::addTo(ContourErrorSplit& split, Kind kind, double error_m)
+{
+  switch (kind)
+  {
+    case Kind::Contour:
+      split.mark.add(error_m);
+      split.contour.add(error_m);
+      break;
+    case Kind::Hatch:
+      split.mark.add(error_m);
+      split.hatch.add(error_m);
+      break;
+    case Kind::Jump:
+      split.jump.add(error_m);
+      break;
+    case Kind::None:
+      break;
+  }
+}
+
+const Eigen::Vector2d& LayerQuality::held(std::uint64_t index) const
+{
+  return ring_[static_cast<std::size_t>(index % ring_.size())];
+}
+
+void LayerQuality::sameInstant(std::uint64_t k)
+{
+  // Command k pairs with the samples j = k + L ± N the ring holds: the nearest of them (the point of
+  // least following error), then the projection on its adjacent segments.
+  const Command c = commandAt(k, command_cursor_);
+  fill_.addCommanded(c.point, c.kind == Kind::Hatch);
+  const std::uint64_t centre = k + lag_samples_;
+  const std::uint64_t lo = std::max(centre >= window_samples_ ? centre - window_samples_ : 0, ring_first_);
+  const std::uint64_t hi = std::min(centre + window_samples_, next_index_ - 1);
+  if (!started_ || lo > hi)
+  {
+    ++report_.unmatched_points;  // no sample of its window arrived (stream gap)
+    return;
+  }
+  std::uint64_t nearest = lo;
+  double nearest_d2 = INFINITY;
+  for (std::uint64_t j = lo; j <= hi; ++j)
+  {
+    const double d2 = (held(j) - c.point).squaredNorm();
+    if (d2 < nearest_d2)
+    {
+      nearest_d2 = d2;
+      nearest = j;
+    }
+  }
+  double best = std::sqrt(nearest_d2);  // an isolated sample: the distance to it
+  if (nearest > ring_first_)
+    best = std::min(best, pointSegmentDistance(c.point, held(nearest - 1), held(nearest)));
+  if (nearest + 1 < next_index_)
+    best = std::min(best, pointSegmentDistance(c.point, held(nearest), held(nearest + 1)));
+  addTo(report_.same_instant, c.kind, best);
+}
+
+void LayerQuality::unmatched(std::uint64_t k)
+{
+  const Command c = commandAt(k, command_cursor_);
+  fill_.addCommanded(c.point, c.kind == Kind::Hatch);
+  ++report_.unmatched_points;
+}
+
+void LayerQuality::process(const SpotChunk& chunk)
+{
+  if (!started_)
+  {
+    period_s_ = chunk.period_s;
+    lag_samples_ = static_cast<std::uint64_t>(std::llround(std::max(0.0, report_.lag_s) / period_s_));
+    window_samples_ = static_cast<std::uint64_t>(std::llround(config_.same_instant_window_s / period_s_));
+    report_.window_s = static_cast<double>(window_samples_) * period_s_;
+    ring_.assign(static_cast<std::size_t>(2 * window_samples_ + 3), Eigen::Vector2d::Zero());
+    // Commanded points: k·Ts < layer time (the same rounding as the NC's sample times).
+    program_samples_ = static_cast<std::uint64_t>(std::ceil(report_.layer_time_s / period_s_ - 1e-9));
+    report_.commanded_points = program_samples_;
+  }
+  for (std::size_t n = 0; n < chunk.samples.size(); ++n)
+  {
+    const std::uint64_t m = chunk.first_index + n;
+    if (started_ && m < next_index_)
+      continue;  // already seen
+    const SpotSample& s = chunk.samples[n];
+    if (started_ && m > next_index_)
+    {
+      // Gap: the commands whose window meets the samples before it use those; those whose window
+      // lies in the gap are unmatched; the others wait for the samples after it.
+      while (next_command_ < program_samples_ && next_command_ + lag_samples_ <= next_index_ - 1 + window_samples_)
+        sameInstant(next_command_++);
+      while (next_command_ < program_samples_ && next_command_ + lag_samples_ + window_samples_ < m)
+        unmatched(next_command_++);
+      ring_first_ = m;
+      fill_.breakActual();
+      if (keep_path_)
+        path_.breakPath();
+      path_gapped_ = true;
+    }
+    // Angle errors over the program, speed and fill against the same-instant command.
+    if (m < program_samples_)
+    {
+      report_.angle_error_x.add(s.angle_error.x());
+      report_.angle_error_y.add(s.angle_error.y());
+    }
+    const Command c = commandAt(m >= lag_samples_ ? m - lag_samples_ : program_samples_, lagged_cursor_);
+    const bool marking = s.power_w > 0.0 && (c.kind == Kind::Hatch || c.kind == Kind::Contour);
+    fill_.addActual(s.actual, s.power_w > 0.0 && c.kind == Kind::Hatch);
+    if (marking && c.speed_mps > 0.0 && started_ && m > ring_first_)
+    {
+      const double ratio = (s.actual - held(m - 1)).norm() / period_s_ / c.speed_mps;
+      report_.mark_speed_ratio.add(ratio);
+      speed_ratio_sum_ += ratio;
+      speed_samples_ += 1.0;
+    }
+    if (keep_path_)
+      path_.add(s.actual);
+    if (!started_)
+      ring_first_ = m;
+    ring_[static_cast<std::size_t>(m % ring_.size())] = s.actual;
+    started_ = true;
+    next_index_ = m + 1;
+    ring_first_ = std::max(ring_first_, next_index_ > ring_.size() ? next_index_ - ring_.size() : 0);
+    // Command k is complete once sample k + L + N + 1 is in (its window and the segment after it).
+    while (next_command_ < program_samples_ && next_command_ + lag_samples_ + window_samples_ + 1 <= m)
+      sameInstant(next_command_++);
+  }
+}
+
+LayerQualityReport LayerQuality::finish()
+{
+  // The last commands pair with the last sample (one segment) or with none (unmatched).
+  while (next_command_ < program_samples_)
+  {
+    sameInstant(next_command_++);
+  }
+  std::size_t index_bytes = 0;
+  if (keep_path_ && !path_.empty())
+  {
+    const NearestPathIndex index(path_);
+    index_bytes = index.memoryBytes();
+    PathTimeline::Cursor cursor;
+    for (std::uint64_t k = 0; k < program_samples_; ++k)
+    {
+      const Command c = commandAt(k, cursor);
+      const std::uint64_t j = k + lag_samples_;
+      // The same-instant error on the stored path bounds the search (exact: a distance to it).
+      const double bound = !path_gapped_ && j < path_.size() ? sameInstantDistance(path_, static_cast<std::size_t>(j), c.point)
+                                                             : INFINITY;
+      addTo(report_.nearest_path, c.kind, index.distance(c.point, bound));
+    }
+  }
+  report_.fill_cells_to_fill = fill_.cellsToFill();
+  report_.fill_cells_reached = fill_.cellsReached();
+  report_.fill_rate = fill_.fillRate();
+  report_.fill_points_outside = fill_.pointsOutside();
+  report_.mark_speed_mean_ratio = speed_samples_ > 0.0 ? speed_ratio_sum_ / speed_samples_ : NAN;
+  report_.memory_bytes = path_.memoryBytes() + index_bytes + fill_.memoryBytes() +
+                         timeline_.segments().capacity() * sizeof(PathSegment);
+  return report_;
+}
+}  // namespace scanhead

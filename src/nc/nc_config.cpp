@@ -1,0 +1,49 @@
+/// \file nc_config.cpp
+/// \brief Validation of the NC parameters (SPEC §2).
+#include "scanhead/nc/nc_config.hpp"
+
+#include "scanhead/common/config_check.hpp"
+
+namespace scanhead
+{
+void IgtConfig::validate() const
+{
+  requireChoice(mode, "nc.igt.mode", {"newton", "table"});
+  if (table_nodes < 2 || table_nodes > 4097)
+    failSetting("nc.igt.table_nodes", "in 2...4097", table_nodes);
+  requireChoice(table_interpolation, "nc.igt.table_interpolation", {"bilinear", "bicubic"});
+}
+
+void SkywritingConfig::validate() const
+{
+  requireSetting(run_in_m >= 0.0, "nc.skywriting.run_in_m", ">= 0", run_in_m);
+  requireSetting(run_in_s >= 0.0, "nc.skywriting.run_in_s", ">= 0", run_in_s);
+  requireSetting(run_out_m >= 0.0, "nc.skywriting.run_out_m", ">= 0", run_out_m);
+  requireSetting(run_out_s >= 0.0, "nc.skywriting.run_out_s", ">= 0", run_out_s);
+  requireSetting(min_angle_deg >= 0.0 && min_angle_deg < 180.0, "nc.skywriting.min_angle_deg", "in [0, 180)",
+                 min_angle_deg);
+}
+
+void NcConfig::validate() const
+{
+  requireSetting(period_s > 0.0, "nc.period_s", "> 0", period_s);
+  requireSetting(fir_t1_s >= 0.0, "nc.fir_t1_s", ">= 0", fir_t1_s);
+  requireSetting(fir_t2_s >= 0.0, "nc.fir_t2_s", ">= 0", fir_t2_s);
+  requireSetting(max_joint_speed_radps > 0.0, "nc.max_joint_speed_radps", "> 0", max_joint_speed_radps);
+  requireSetting(implicit_jump_speed_mps > 0.0, "nc.implicit_jump_speed_mps", "> 0", implicit_jump_speed_mps);
+  requireSetting(tail_s >= 0.0, "nc.tail_s", ">= 0", tail_s);
+  igt.validate();
+  requireChoice(filter_mode, "nc.filter_mode", {"fixed", "adaptive"});
+  requireSetting(max_joint_accel_radps2 > 0.0, "nc.max_joint_accel_radps2", "> 0", max_joint_accel_radps2);
+  requireSetting(max_joint_jerk_radps3 > 0.0, "nc.max_joint_jerk_radps3", "> 0", max_joint_jerk_radps3);
+  requireSetting(mark_delay_s >= 0.0, "nc.mark_delay_s", ">= 0", mark_delay_s);
+  requireSetting(jump_delay_s >= 0.0, "nc.jump_delay_s", ">= 0", jump_delay_s);
+  requireSetting(polygon_delay_s >= 0.0, "nc.polygon_delay_s", ">= 0", polygon_delay_s);
+  requireChoice(polygon_delay_mode, "nc.polygon_delay_mode", {"fixed", "angle"});
+  skywriting.validate();
+  requireChoice(power_mode, "nc.power_mode", {"constant", "speed", "predicted"});
+  requireSetting(power_floor >= 0.0 && power_floor <= 1.0, "nc.power_floor", "in [0, 1]", power_floor);
+  if (quantisation_bits != 0 && quantisation_bits != 16 && quantisation_bits != 18 && quantisation_bits != 20)
+    failSetting("nc.quantisation_bits", "0 (off), 16, 18 or 20", quantisation_bits);
+}
+}  // namespace scanhead

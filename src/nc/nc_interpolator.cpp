@@ -1,0 +1,537 @@
+/// \file nc_interpolator.cpp
+/// \brief The NC stage (SPEC §2): NC program → X_inter → IGT → FIR T1 → velocity saturation →
+/// FIR T2 → Q_filt2 (or the adaptive filter in the plane → IGT), the laser gate aligned on the
+/// filtered setpoint, optional power modulation and XY2-100 quantisation.
+///
+/// IGT: OpticalModel::inverse (Newton on the ray trace, to its tolerance), warm-started from the
+/// linear extrapolation 2·q_{n−1} − q_{n−2} of the previous solutions (retried from q = 0 if that
+/// fails); a sample whose point equals the previous one reuses its solution (holds, the tail).
+/// Or the correction table (correction_table.hpp), which needs no guess.
+///
+/// Derivatives of Q_filt2 with fixed filters (the setpoint velocity and acceleration):
+///  * velocity: exact. Q_filt2(t) is the box mean over T2 of the piecewise-linear signal s(t)
+///    through the saturated samples, so dQ_filt2/dt(t_n) = (s_n − s(t_n − T2))/T2 with s
+///    linearly interpolated at the fractional delay (BoxFilter::derivative). T2 = 0: the
+///    velocity of s below.
+///  * velocity of s (after the saturation): where the axis is not limited, the exact derivative
+///    of the FIR T1 output, (q_n − q(t_n − T1))/T1 (T1 = 0: backward difference of Q_inter,
+///    the left derivative of its linear interpolation); where limited, ±max_joint_speed_radps.
+///  * acceleration: the same exact box derivative applied to the velocity samples of s read as
+///    a piecewise-linear signal, (ṡ_n − ṡ(t_n − T2))/T2 (T2 = 0: backward difference of ṡ).
+///    This is the exact acceleration of box_T2(box_T1(Q_inter)) up to the linear interpolation
+///    of the T1 velocity between samples, which differs from the true (kinked) velocity only in
+///    the periods containing a kink (O(Ts²·a/T2) on the integrated velocity); it reproduces the
+///    rectangle (T1) ⊗ box (T2) trapezoid of SPEC §2.3.
+/// Q_filt1's acceleration (debug) is the same box derivative of the Q_inter velocity over T1.
+///
+/// Power ∝ speed: the speed of the filtered path is taken in the work plane, by running the same
+/// box filters on X_inter (fixed) or from the adaptive filter: filtering in joint or task space
+/// gives the same path to < 0.1 µm (SPEC §2, NC §3), and the plane speed is what deposits energy.
+#include "scanhead/nc/nc_interpolator.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "scanhead/nc/adaptive_fir.hpp"
+#include "scanhead/common/box_filter.hpp"
+#include "scanhead/optics/correction_table.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/servo/galvo_servo.hpp"
+#include "scanhead/optics/joint_gain.hpp"
+#include "scanhead/job/path_timeline.hpp"
+#include "scanhead/nc/rate_limiter.hpp"
+
+namespace scanhead
+{
+namespace
+{
+/// ceil(x) where x within 1e-9 (relative) of an integer counts as that integer.
+std::uint64_t ceilSnapped(double x)
+{
+  const double nearest = std::round(x);
+  if (std::abs(x - nearest) <= 1e-9 * std::max(1.0, std::abs(x)))
+  {
+    return static_cast<std::uint64_t>(std::max(0.0, nearest));
+  }
+  return static_cast<std::uint64_t>(std::max(0.0, std::ceil(x)));
+}
+
+std::string pointText(const Eigen::Vector2d& p)
+{
+  std::ostringstream s;
+  s.precision(9);
+  s << "(" << p.x() << ", " << p.y() << ") m";
+  return s.str();
+}
+
+Recipe followFilteredSetpoint(const NcConfig& config)
+{
+  Recipe recipe;
+  recipe.laser_on_delay_s = config.filterDelay();
+  recipe.laser_off_delay_s = config.filterDelay();
+  return recipe;
+}
+
+constexpr double kLimitSlack = 1.0 + 1e-6;  ///< relative slack before a sample counts as over a limit
+
+/// J̇·q̇ = (dJ/dt)·q̇, the curvature term of ẍ = J q̈ + J̇ q̇: a central difference of the Jacobian
+/// along q̇ (steps of 1e-6 rad: truncation ~1e-12, rounding ~1e-10 relative).
+Eigen::Vector2d jacobianRateTimesVelocity(const OpticalModel& optics, const Eigen::Vector2d& q,
+                                          const Eigen::Vector2d& q_dot)
+{
+  const double speed = q_dot.norm();
+  if (speed == 0.0)
+  {
+    return Eigen::Vector2d::Zero();
+  }
+  constexpr double kStep_rad = 1e-6;
+  const Eigen::Vector2d u = q_dot / speed;
+  const Eigen::Matrix2d rate = (optics.jacobian(q + kStep_rad * u) - optics.jacobian(q - kStep_rad * u)) *
+                               (speed / (2.0 * kStep_rad));
+  return rate * q_dot;
+}
+}  // namespace
+
+/// The inverse geometric transform: Newton on the optics, or the correction table.
+struct NcInterpolator::Igt
+{
+  bool use_table = false;
+  CorrectionTable table;
+  TableInterpolation interpolation = TableInterpolation::Bilinear;
+
+  Eigen::Vector2d solve(const OpticalModel& optics, const Eigen::Vector2d& x, const Eigen::Vector2d& guess) const
+  {
+    if (use_table)
+    {
+      return table.joints(x, interpolation);
+    }
+    try
+    {
+      return optics.inverse(x, guess);
+    }
+    catch (const NumericalError&)
+    {
+      return optics.inverse(x, Eigen::Vector2d::Zero());
+    }
+  }
+};
+
+struct NcInterpolator::State
+{
+  NcProgram program;
+  PathTimeline::Cursor path_cursor;
+  LaserGate::Cursor gate_cursor;
+  bool adaptive = false;
+  // fixed filters (joint space), and their twin on X_inter for the plane speed
+  BoxFilter<2> fir1;
+  RateLimiter limiter;
+  BoxFilter<4> fir2;  ///< channels: s (2), ṡ (2)
+  BoxFilter<2> plane_fir1;
+  BoxFilter<2> plane_fir2;
+  BoxFilter<2> inter_rate_fir1;  ///< debug: box T1 of the Q_inter velocity → Q_filt1 acceleration
+  // adaptive filter (plane)
+  AdaptiveFir adaptive_fir;
+  AdaptiveFir::Cursor filt2_cursor;
+  AdaptiveFir::Cursor filt1_cursor;
+  double gate_shift_s = 0.0;  ///< D − (T1 + T2)/2: the gate's command time lags the fixed alignment by this
+  Eigen::Vector2d x_prev = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector2d q_prev = Eigen::Vector2d::Zero();   ///< IGT output at the last sample [rad]
+  Eigen::Vector2d q_prev2 = Eigen::Vector2d::Zero();  ///< one sample before [rad]
+  Eigen::Vector2d q_inter_prev = Eigen::Vector2d::Zero();       ///< debug, adaptive: Q_inter history
+  Eigen::Vector2d q_inter_prev2 = Eigen::Vector2d::Zero();
+  Eigen::Vector2d accel_prev = Eigen::Vector2d::Zero();
+  std::vector<double> plane_speeds;           ///< per sample of the chunk: speed the power follows [m/s]
+  std::unique_ptr<GalvoServo> predictor;      ///< power_mode "predicted": the servo model on the setpoint
+  std::uint64_t next = 0;
+  std::uint64_t total = 0;
+  std::string job_name;
+  NcStats stats;
+};
+
+NcInterpolator::NcInterpolator(const NcConfig& config, const Recipe& recipe, const OpticalModel& optics,
+                               const ServoConfig* servo_model)
+  : config_(config), recipe_(recipe), optics_(optics), igt_(std::make_unique<Igt>())
+{
+  config_.validate();
+  if (config_.power_mode == "predicted")
+  {
+    if (servo_model == nullptr)
+    {
+      throw ConfigError("nc.power_mode: 'predicted' needs the servo model (this NC was built without one)");
+    }
+    servo_model_ = std::make_unique<ServoConfig>(*servo_model);
+  }
+  if (config_.cap_speeds && config_.filter_mode == "fixed" && !(config_.fir_t1_s > 0.0 && config_.fir_t2_s > 0.0))
+  {
+    throw ConfigError("nc.cap_speeds needs nc.fir_t1_s and nc.fir_t2_s > 0 (fixed filters of zero duration "
+                      "cannot keep any speed within the acceleration and jerk limits)");
+  }
+  if (config_.igt.mode == "table")
+  {
+    igt_->use_table = true;
+    igt_->interpolation = parseTableInterpolation(config_.igt.table_interpolation, "nc.igt.table_interpolation");
+    igt_->table = config_.igt.table_file.empty() ?
+                      CorrectionTable::build(optics_, config_.igt.table_nodes, optics_.config().field_half_width_m) :
+                      CorrectionTable::load(config_.igt.table_file);
+  }
+  if (config_.filter_mode == "adaptive" || config_.cap_speeds)
+  {
+    joint_gains_ = jointRateGains(optics_, optics_.config().field_half_width_m);
+  }
+}
+
+NcInterpolator::NcInterpolator(const NcConfig& config, const OpticalModel& optics)
+  : NcInterpolator(config, followFilteredSetpoint(config), optics)
+{
+}
+
+NcInterpolator::~NcInterpolator() = default;
+
+void NcInterpolator::start(const Job& job)
+{
+  state_.reset();
+  auto st = std::make_unique<State>();
+  st->job_name = job.name;
+  st->adaptive = (config_.filter_mode == "adaptive");
+
+  const double g = joint_gains_.maxCoeff();  // rad/m; 0 when the limits are not used
+  double speed_cap = std::numeric_limits<double>::infinity();
+  if (st->adaptive)
+  {
+    speed_cap = config_.max_joint_speed_radps / g;  // the adaptive path has no rate limiter
+  }
+  else if (config_.cap_speeds)
+  {
+    // Any path at V through box T1 then box T2: |q̈| = |q̇(t) − q̇(t − T1)|/T1 <= 2gV/T1 (a reversal),
+    // |q⃛| = |q̈(t) − q̈(t − T2)|/T2 <= 4gV/(T1·T2) (two reversals within T1): bounds, not estimates.
+    speed_cap = std::min(config_.max_joint_accel_radps2 * config_.fir_t1_s / 2.0,
+                         config_.max_joint_jerk_radps3 * config_.fir_t1_s * config_.fir_t2_s / 4.0) / g;
+  }
+  NcProgramOptions options = NcProgramOptions::from(config_, recipe_);
+  options.speed_cap_mps = speed_cap;
+  st->program = buildNcProgram(job, options);
+  const PathTimeline& timeline = st->program.timeline;
+  if (!timeline.hasPoints())
+  {
+    throw InputError("NC: job '" + job.name + "' has no move (no point, or all its points are the same)");
+  }
+
+  // Every point the program visits (skywriting adds some) must be reachable; checked now so a
+  // bad job fails at start, not mid-stream. Each from the previous solution, retried from 0.
+  Eigen::Vector2d q = Eigen::Vector2d::Zero();
+  auto reach = [&](const Eigen::Vector2d& x, const std::string& what) {
+    try
+    {
+      q = igt_->solve(optics_, x, q);
+    }
+    catch (const NumericalError& e)
+    {
+      throw NumericalError("NC: job '" + job.name + "' " + what + " " + pointText(x) +
+                           " is not reachable by the optics: " + e.what());
+    }
+  };
+  reach(timeline.startPoint(), "start point");
+  const Eigen::Vector2d q0 = q;
+  for (const PathSegment& seg : timeline.segments())
+  {
+    // A move ends at the vertex after its start; an inserted jump, a dwell or a hold at its own.
+    const std::size_t vertex = (seg.implicit_jump || seg.dwell || seg.delay) ? seg.vertex : seg.vertex + 1;
+    const std::string what = seg.skywriting ? "skywriting point (polyline " + std::to_string(seg.polyline) + ")" :
+                                              "polyline " + std::to_string(seg.polyline) + " point " +
+                                                  std::to_string(vertex);
+    reach(seg.end_m, what);
+  }
+
+  const double ts = config_.period_s;
+  double filter_delay_s = config_.filterDelay();
+  if (st->adaptive)
+  {
+    const PlaneLimits limits{ config_.max_joint_accel_radps2 / g, config_.max_joint_jerk_radps3 / g };
+    st->adaptive_fir = AdaptiveFir(timeline, limits);
+    filter_delay_s = st->adaptive_fir.delay();
+    st->gate_shift_s = filter_delay_s - config_.filterDelay();
+    st->stats.longest_t1_s = st->adaptive_fir.longest().t1_s;
+    st->stats.longest_t2_s = st->adaptive_fir.longest().t2_s;
+  }
+  else
+  {
+    st->fir1 = BoxFilter<2>(config_.fir_t1_s, ts);
+    st->fir1.reset(q0);
+    st->limiter = RateLimiter(config_.max_joint_speed_radps, ts);
+    st->limiter.reset(q0);
+    st->fir2 = BoxFilter<4>(config_.fir_t2_s, ts);
+    Eigen::Vector4d s0;
+    s0 << q0, 0.0, 0.0;
+    st->fir2.reset(s0);
+    st->plane_fir1 = BoxFilter<2>(config_.fir_t1_s, ts);
+    st->plane_fir1.reset(timeline.startPoint());
+    st->plane_fir2 = BoxFilter<2>(config_.fir_t2_s, ts);
+    st->plane_fir2.reset(timeline.startPoint());
+    st->inter_rate_fir1 = BoxFilter<2>(config_.fir_t1_s, ts);
+    st->inter_rate_fir1.reset(Eigen::Vector2d::Zero());
+    st->stats.longest_t1_s = config_.fir_t1_s;
+    st->stats.longest_t2_s = config_.fir_t2_s;
+  }
+  st->x_prev = timeline.startPoint();
+  st->q_prev = q0;
+  st->q_prev2 = q0;  // at rest before the start
+  st->q_inter_prev = q0;
+  st->q_inter_prev2 = q0;
+  st->stats.program = st->program.stats;
+  st->stats.speed_cap_mps = speed_cap;
+  st->stats.filter_delay_s = filter_delay_s;
+  st->stats.gate_shift_s = st->gate_shift_s;
+  if (servo_model_)
+  {
+    st->predictor = std::make_unique<GalvoServo>(*servo_model_, ts);
+  }
+
+  // Samples n = 0 .. N−1 cover the program, the filters' settling (2·delay) and the last laser
+  // window, then the tail (a time within 1e-9 relative of a sample counts as on it).
+  double end_s = timeline.duration() + 2.0 * filter_delay_s;
+  const auto& windows = st->program.gate.windows();
+  if (!windows.empty())
+  {
+    end_s = std::max(end_s, windows.back().off_s + st->gate_shift_s);
+  }
+  st->total = ceilSnapped((end_s + config_.tail_s) / ts) + 1;
+  state_ = std::move(st);
+}
+
+NcOutput NcInterpolator::process(std::size_t max_samples)
+{
+  NcOutput out;
+  const double ts = config_.period_s;
+  out.setpoint.period_s = ts;
+  out.laser.period_s = ts;
+  out.debug.period_s = ts;
+  if (!state_)
+  {
+    return out;
+  }
+  State& st = *state_;
+  out.setpoint.first_index = st.next;
+  out.laser.first_index = st.next;
+  out.debug.first_index = st.next;
+  const std::uint64_t remaining = st.total - st.next;
+  const std::size_t count = static_cast<std::size_t>(std::min<std::uint64_t>(max_samples, remaining));
+  out.setpoint.samples.resize(count);
+  out.laser.samples.resize(count);
+  st.plane_speeds.resize(count);
+  if (config_.debug)
+  {
+    out.debug.samples.resize(count);
+  }
+  const bool speed_power = (config_.power_mode != "constant");
+  const bool t2_identity = !st.adaptive && st.fir2.duration() == 0.0;
+  const PathTimeline& timeline = st.program.timeline;
+
+  // One IGT solve; on failure the job is abandoned (done() is true, start() again to continue).
+  auto solveOrAbandon = [&](const Eigen::Vector2d& x, const Eigen::Vector2d& guess, std::uint64_t n, double t_s,
+                            const char* what) -> Eigen::Vector2d {
+    try
+    {
+      return igt_->solve(optics_, x, guess);
+    }
+    catch (const NumericalError& e)
+    {
+      std::ostringstream msg;
+      msg << "NC: job '" << st.job_name << "' sample " << n << " (t = " << t_s << " s): " << what << " "
+          << pointText(x) << " is not reachable by the optics: " << e.what();
+      state_.reset();
+      throw NumericalError(msg.str());
+    }
+  };
+
+  // The setpoint's IGT with its warm start; a point equal to the previous one reuses its solution.
+  auto inverse = [&](const Eigen::Vector2d& x, std::uint64_t n, double t_s) -> Eigen::Vector2d {
+    if (x == st.x_prev)
+    {
+      return st.q_prev;
+    }
+    // Warm start extrapolated from the last two solutions (2·q_{n−1} − q_{n−2}): on a segment its
+    // error is O(q̈·Ts²) ~ 1e-10 rad, so Newton needs one step plus the converged check (two ray
+    // traces) instead of two steps from q_{n−1}.
+    const Eigen::Vector2d q = solveOrAbandon(x, 2.0 * st.q_prev - st.q_prev2, n, t_s, "path point");
+    st.x_prev = x;
+    return q;
+  };
+
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const std::uint64_t n = st.next + i;
+    const double t_s = static_cast<double>(n) * ts;
+    const Eigen::Vector2d x = timeline.positionAt(t_s, st.path_cursor);
+    SetpointSample& sp = out.setpoint.samples[i];
+    double plane_speed = 0.0;
+
+    if (!st.adaptive)
+    {
+      const Eigen::Vector2d q = inverse(x, n, t_s);
+      st.q_prev2 = st.q_prev;
+      st.q_prev = q;
+      // FIR T1, velocity saturation, FIR T2 (per axis, joint space).
+      st.fir1.push(q);
+      const Eigen::Vector2d q_filt1 = st.fir1.average();
+      const Eigen::Vector2d q_filt1_dot = st.fir1.derivative();
+      Eigen::Vector2d s;
+      Eigen::Vector2d s_dot;
+      st.limiter.step(q_filt1, q_filt1_dot, s, s_dot);
+      Eigen::Vector4d s_and_rate;
+      s_and_rate << s, s_dot;
+      st.fir2.push(s_and_rate);
+      const Eigen::Vector4d d = st.fir2.derivative();
+      sp.position = t2_identity ? s : Eigen::Vector2d(st.fir2.average().head<2>());
+      sp.velocity = t2_identity ? s_dot : Eigen::Vector2d(d.head<2>());
+      sp.acceleration = d.tail<2>();
+      if (speed_power)
+      {
+        st.plane_fir1.push(x);
+        st.plane_fir2.push(st.plane_fir1.average());
+        plane_speed = st.plane_fir2.derivative().norm();
+      }
+      if (config_.debug)
+      {
+        NcDebugSample& dbg = out.debug.samples[i];
+        dbg.x_inter = x;
+        dbg.q_inter = q;
+        dbg.q_inter_velocity = (q - st.q_prev2) / ts;
+        dbg.q_inter_acceleration = (q - 2.0 * st.q_prev2 + st.q_inter_prev2) / (ts * ts);
+        st.q_inter_prev2 = st.q_prev2;
+        st.inter_rate_fir1.push(dbg.q_inter_velocity);
+        dbg.q_filt1 = q_filt1;
+        dbg.q_filt1_velocity = q_filt1_dot;
+        dbg.q_filt1_acceleration = st.inter_rate_fir1.derivative();
+      }
+    }
+    else
+    {
+      const PlaneState filt2 = st.adaptive_fir.filtered(t_s, st.filt2_cursor);
+      const Eigen::Vector2d q = inverse(filt2.position, n, t_s);
+      st.q_prev2 = st.q_prev;
+      st.q_prev = q;
+      const Eigen::Matrix2d inverse_jacobian = optics_.jacobian(q).inverse();
+      sp.position = q;
+      sp.velocity = inverse_jacobian * filt2.velocity;
+      sp.acceleration = inverse_jacobian * (filt2.acceleration - jacobianRateTimesVelocity(optics_, q, sp.velocity));
+      plane_speed = filt2.velocity.norm();
+      if (config_.debug)
+      {
+        NcDebugSample& dbg = out.debug.samples[i];
+        const PlaneState filt1 = st.adaptive_fir.firstStage(t_s, st.filt1_cursor);
+        dbg.x_inter = x;
+        dbg.q_inter = solveOrAbandon(x, st.q_inter_prev, n, t_s, "debug point");
+        dbg.q_inter_velocity = (dbg.q_inter - st.q_inter_prev) / ts;
+        dbg.q_inter_acceleration = (dbg.q_inter - 2.0 * st.q_inter_prev + st.q_inter_prev2) / (ts * ts);
+        st.q_inter_prev2 = st.q_inter_prev;
+        st.q_inter_prev = dbg.q_inter;
+        dbg.q_filt1 = solveOrAbandon(filt1.position, q, n, t_s, "debug point");
+        const Eigen::Matrix2d filt1_inverse_jacobian = optics_.jacobian(dbg.q_filt1).inverse();
+        dbg.q_filt1_velocity = filt1_inverse_jacobian * filt1.velocity;
+        dbg.q_filt1_acceleration =
+            filt1_inverse_jacobian *
+            (filt1.acceleration - jacobianRateTimesVelocity(optics_, dbg.q_filt1, dbg.q_filt1_velocity));
+      }
+    }
+
+    if (config_.quantisation_bits > 0)
+    {
+      // XY2-100: an unsigned word over the mechanical range; the servo gets the nearest code.
+      const double lower = optics_.geometry().joint_lower_rad;
+      const double codes = std::ldexp(1.0, config_.quantisation_bits) - 1.0;
+      const double lsb = (optics_.geometry().joint_upper_rad - lower) / codes;
+      for (int a = 0; a < 2; ++a)
+      {
+        const double code = std::min(codes, std::max(0.0, std::round((sp.position[a] - lower) / lsb)));
+        sp.position[a] = lower + code * lsb;
+      }
+    }
+
+    // Limits on Q_filt2 (reported; the adaptive filter and cap_speeds are built to respect them).
+    const Eigen::Vector2d jerk = (sp.acceleration - st.accel_prev) / ts;
+    st.accel_prev = sp.acceleration;
+    bool over_accel = false;
+    bool over_jerk = false;
+    for (int a = 0; a < 2; ++a)
+    {
+      st.stats.max_accel_radps2[a] = std::max(st.stats.max_accel_radps2[a], std::abs(sp.acceleration[a]));
+      st.stats.max_jerk_radps3[a] = std::max(st.stats.max_jerk_radps3[a], std::abs(jerk[a]));
+      over_accel = over_accel || std::abs(sp.acceleration[a]) > config_.max_joint_accel_radps2 * kLimitSlack;
+      over_jerk = over_jerk || std::abs(jerk[a]) > config_.max_joint_jerk_radps3 * kLimitSlack;
+    }
+    st.stats.samples_over_accel += over_accel ? 1 : 0;
+    st.stats.samples_over_jerk += over_jerk ? 1 : 0;
+
+    st.plane_speeds[i] = plane_speed;
+  }
+
+  if (st.predictor)
+  {
+    // The servo model run on the setpoint predicts the actual joints; their plane speed
+    // replaces the filtered path's.
+    if (out.setpoint.first_index == 0 && count > 0)
+    {
+      st.predictor->reset(out.setpoint.samples.front().position);
+    }
+    const JointChunk predicted = st.predictor->process(out.setpoint);
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      const JointSample& j = predicted.samples[i];
+      st.plane_speeds[i] = (optics_.jacobian(j.position) * j.velocity).norm();
+    }
+  }
+
+  // Laser: the gate on the command timeline, aligned with Q_filt2 by the delays.
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const double command_s = static_cast<double>(st.next + i) * ts - st.gate_shift_s;
+    double power = st.program.gate.powerAt(command_s, st.gate_cursor);
+    if (speed_power && power > 0.0)
+    {
+      const double programmed = st.program.gate.speedAt(command_s, st.gate_cursor);
+      if (programmed > 0.0)  // a dwell is meant to stand still: full power
+      {
+        power *= std::min(1.0, std::max(config_.power_floor, st.plane_speeds[i] / programmed));
+      }
+    }
+    out.laser.samples[i].power_w = power;
+    st.stats.laser_on_samples += power > 0.0 ? 1 : 0;
+  }
+  st.next += count;
+  return out;
+}
+
+bool NcInterpolator::done() const
+{
+  return !state_ || state_->next >= state_->total;
+}
+
+std::uint64_t NcInterpolator::totalSamples() const
+{
+  return state_ ? state_->total : 0;
+}
+
+double NcInterpolator::pathDuration() const
+{
+  return state_ ? state_->program.timeline.duration() : 0.0;
+}
+
+const NcStats& NcInterpolator::stats() const
+{
+  return state_ ? state_->stats : empty_stats_;
+}
+
+const NcProgram& NcInterpolator::program() const
+{
+  if (!state_)
+  {
+    throw std::logic_error("NcInterpolator::program() before start() (or after an abandoned job)");
+  }
+  return state_->program;
+}
+}  // namespace scanhead

@@ -1,0 +1,136 @@
+/// \file test_tiled_energy_map.cpp
+/// \brief The sparse tiled map: same floats as a dense map whatever spills, bounded memory, exports.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "scanhead/energy/energy_accumulator.hpp"
+#include "scanhead/common/errors.hpp"
+
+using scanhead::EnergyAccumulator;
+using scanhead::EnergyConfig;
+using scanhead::EnergyMap;
+using scanhead::SpotChunk;
+using scanhead::SpotSample;
+using scanhead::TiledEnergyMap;
+
+namespace
+{
+constexpr double kTs = 1e-5;
+
+/// A seeded serpentine over a 6 × 6 mm area at 1 m/s, 200 W: it visits ~400 tiles of 5 µm pixels.
+SpotChunk serpentine(unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-2e-6, 2e-6);
+  SpotChunk c;
+  c.period_s = kTs;
+  const double step = 1.0 * kTs;  // 10 µm per sample
+  for (int line = 0; line < 20; ++line)
+  {
+    const double y = 0.3e-3 * line;
+    for (int k = 0; k <= 600; ++k)
+    {
+      const double x = (line % 2 == 0 ? k : 600 - k) * step;
+      SpotSample s;
+      s.actual = Eigen::Vector2d(x + jitter(rng), y + jitter(rng));
+      s.power_w = 200.0;
+      c.samples.push_back(s);
+    }
+  }
+  return c;
+}
+
+EnergyConfig withCache(std::size_t bytes)
+{
+  EnergyConfig cfg;
+  cfg.tile_cache_bytes = bytes;
+  return cfg;
+}
+}  // namespace
+
+// Spilling tiles to the file and reading them back changes no float: a 1 MiB cache (64 tiles)
+// against one that holds everything, bit for bit.
+TEST(TiledEnergyMap, SpillsLeaveTheValuesBitIdentical)
+{
+  const SpotChunk path = serpentine(3);
+  const Eigen::Vector2d lo(-0.3e-3, -0.3e-3), hi(6.3e-3, 6.0e-3);
+  EnergyAccumulator small(withCache(1 << 20), lo, hi), large(withCache(1u << 30), lo, hi);
+  small.process(path);
+  small.finish();
+  large.process(path);
+  large.finish();
+  EXPECT_GT(small.map().tilesSpilled(), 100u);
+  EXPECT_EQ(large.map().tilesSpilled(), 0u);
+  EXPECT_EQ(small.map().tilesTouched(), large.map().tilesTouched());
+  EXPECT_TRUE(small.map().toDense().data() == large.map().toDense().data());
+  EXPECT_EQ(small.map().totalEnergy(), large.map().totalEnergy());
+  EXPECT_EQ(small.map().peak(), large.map().peak());
+  // Resident memory stays within the cache (64 tiles of 16 KiB) plus the directory and slot table.
+  EXPECT_LE(small.map().peakResidentBytes(), (1u << 20) + 64 * 1024);
+  // Energy conserved through the spills: deposited = Σ P·Ts within float rounding.
+  const double commanded = 200.0 * kTs * (path.samples.size());
+  EXPECT_NEAR(small.map().totalEnergy(), commanded, 1e-6 * commanded);
+}
+
+// Only visited tiles exist: a whole 350 mm field at 5 µm (4.9e9 pixels) with one spot costs its
+// directory (1.2e6 tiles × 4 B) and a few tiles.
+TEST(TiledEnergyMap, WholeFieldCostsOnlyWhatTheSpotTouches)
+{
+  EnergyAccumulator acc(withCache(1u << 28), Eigen::Vector2d(-0.175, -0.175), Eigen::Vector2d(0.175, 0.175));
+  EXPECT_EQ(acc.map().width(), 70000);
+  SpotChunk c;
+  c.period_s = kTs;
+  SpotSample s;
+  s.actual = Eigen::Vector2d(0.1, -0.05);
+  s.power_w = 100.0;
+  c.samples.assign(100, s);
+  acc.process(c);
+  acc.finish();
+  EXPECT_LE(acc.map().tilesTouched(), 4u);
+  EXPECT_LT(acc.map().peakResidentBytes(), 6u << 20);
+  EXPECT_NEAR(acc.map().totalEnergy(), 100 * 100.0 * kTs, 1e-6);
+  // The overview conserves the energy: Σ block means × (factor·pixel)².
+  const int factor = acc.map().overviewFactor(1000);
+  EXPECT_EQ(factor, 70);
+  const EnergyMap overview = acc.map().overview(factor);
+  EXPECT_EQ(overview.width(), 1000);
+  EXPECT_NEAR(overview.totalEnergy(), acc.map().totalEnergy(), 1e-6 * acc.map().totalEnergy());
+}
+
+// region() is the matching slice of the dense map, clipped at the edges.
+TEST(TiledEnergyMap, RegionIsTheDenseSlice)
+{
+  const SpotChunk path = serpentine(5);
+  EnergyAccumulator acc(withCache(1 << 20), Eigen::Vector2d(-0.3e-3, -0.3e-3), Eigen::Vector2d(6.3e-3, 6.0e-3));
+  acc.process(path);
+  acc.finish();
+  const EnergyMap dense = acc.map().toDense();
+  const EnergyMap part = acc.map().region(100, 50, 300, 200);
+  ASSERT_EQ(part.width(), 300);
+  ASSERT_EQ(part.height(), 200);
+  EXPECT_NEAR(part.origin().x(), acc.map().origin().x() + 100 * acc.map().pixel(), 1e-15);
+  for (int r = 0; r < 200; r += 7)
+    for (int c = 0; c < 300; c += 5)
+      ASSERT_EQ(part.at(c, r), dense.at(c + 100, r + 50));
+  const EnergyMap clipped = acc.map().region(-10, -10, 50, 50);
+  EXPECT_EQ(clipped.width(), 40);
+  EXPECT_EQ(clipped.at(0, 0), dense.at(0, 0));
+}
+
+TEST(TiledEnergyMap, BadGeometryIsNamed)
+{
+  EXPECT_THROW(TiledEnergyMap(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), 0.0, 1 << 20), scanhead::ConfigError);
+  EXPECT_THROW(TiledEnergyMap(Eigen::Vector2d(0, 0), Eigen::Vector2d(-1, 1), 1e-6, 1 << 20), scanhead::InputError);
+  try
+  {
+    TiledEnergyMap(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), 1e-12, 1 << 20);
+    FAIL() << "a 1e12-pixel-wide map was accepted";
+  }
+  catch (const scanhead::ConfigError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("energy.pixel_m"), std::string::npos) << e.what();
+  }
+}
