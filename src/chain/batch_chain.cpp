@@ -10,7 +10,7 @@ BatchChain::BatchChain(const ChainConfig& config, const OpticalModel& optics)
 RunMetrics BatchChain::run(const Job& job, const ProgressCallback& progress)
 {
   nc_.start(job);
-  energy_ = std::make_unique<EnergyStage>(config_, job, nc_);
+  energy_ = std::make_unique<EnergyStage>(config_, job, nc_.plan());
   while (!nc_.done())
   {
     const NcOutput nc = nc_.process(config_.stream.chunk_samples);

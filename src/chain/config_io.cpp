@@ -259,6 +259,28 @@ std::string joinKeys()
 }
 }  // namespace
 
+std::vector<std::string> differingSettings(const std::string& yaml_a, const std::string& yaml_b,
+                                           const std::vector<std::string>& sections)
+{
+  const FlatConfig a = flattenYaml(yaml_a, "settings a");
+  const FlatConfig b = flattenYaml(yaml_b, "settings b");
+  auto wanted = [&](const std::string& key) {
+    return std::any_of(sections.begin(), sections.end(),
+                       [&](const std::string& s) { return key.compare(0, s.size() + 1, s + ".") == 0; });
+  };
+  auto text = [](const FlatConfig& flat, const std::string& key) {
+    const auto it = flat.find(key);
+    return it == flat.end() ? std::string("(none)") : it->second.text;
+  };
+  std::vector<std::string> out;
+  for (const std::string& key : knownConfigKeys())
+  {
+    if (wanted(key) && text(a, key) != text(b, key))
+      out.push_back(key + ": " + text(a, key) + " vs " + text(b, key));
+  }
+  return out;
+}
+
 std::vector<std::string> knownConfigKeys()
 {
   std::vector<std::string> keys;

@@ -2,8 +2,8 @@
 
 #include <cmath>
 #include <future>
+#include <stdexcept>
 
-#include "scanhead/servo/galvo_servo.hpp"
 #include "scanhead/energy/map_regions.hpp"
 #include "scanhead/energy/track_energy.hpp"
 
@@ -21,24 +21,40 @@ EnergyAccumulator makeAccumulator(const ChainConfig& config, const Job& job)
   return EnergyAccumulator(config.energy, lo, hi);
 }
 
-double servoDelay(const ChainConfig& config)
+double actualDelay(const NcPlan& plan)
 {
-  return GalvoServo(config.servo, config.nc.period_s).lowFrequencyDelay().maxCoeff();
+  if (!std::isfinite(plan.servo_delay_s))
+  {
+    throw std::invalid_argument("energy stage: the NC plan of job '" + plan.job_name +
+                                "' has no servo delay (build the NC with the servo model)");
+  }
+  return plan.actualDelay();
 }
 
-CornerTracker makeCornerTracker(const ChainConfig& config, const NcInterpolator& nc, double actual_delay_s)
+NcStats planStats(const NcPlan& plan)
 {
-  return CornerTracker(findCorners(nc.program().timeline, config.energy.corner_min_angle_deg * M_PI / 180.0),
-                       nc.stats().filter_delay_s, actual_delay_s);
+  NcStats stats;
+  stats.program = plan.program.stats;
+  stats.speed_cap_mps = plan.speed_cap_mps;
+  stats.filter_delay_s = plan.filter_delay_s;
+  stats.gate_shift_s = plan.gate_shift_s;
+  stats.longest_t1_s = plan.longest_t1_s;
+  stats.longest_t2_s = plan.longest_t2_s;
+  return stats;
 }
 
-LayerQuality makeLayerQuality(const ChainConfig& config, const Job& job, const NcInterpolator& nc,
-                              double actual_delay_s)
+CornerTracker makeCornerTracker(const ChainConfig& config, const NcPlan& plan, double actual_delay_s)
+{
+  return CornerTracker(findCorners(plan.program.timeline, config.energy.corner_min_angle_deg * M_PI / 180.0),
+                       plan.filter_delay_s, actual_delay_s);
+}
+
+LayerQuality makeLayerQuality(const ChainConfig& config, const Job& job, const NcPlan& plan, double actual_delay_s)
 {
   const double lag = config.energy.contour_lag_s >= 0.0 ? config.energy.contour_lag_s : actual_delay_s;
   Eigen::Vector2d lo, hi;
   jobMapBounds(job, config.energy.map_margin_m, lo, hi);
-  return LayerQuality(config.energy, nc.program().timeline, job, lag, nc.totalSamples(), lo, hi);
+  return LayerQuality(config.energy, plan.program.timeline, job, lag, plan.total_samples, lo, hi);
 }
 }  // namespace
 
@@ -56,17 +72,17 @@ void jobMapBounds(const Job& job, double margin_m, Eigen::Vector2d& min_corner, 
   max_corner.array() += margin_m;
 }
 
-EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcInterpolator& nc)
+EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcPlan& plan)
   : config_(config)
   , job_name_(job.name)
-  , actual_delay_s_(nc.stats().filter_delay_s + servoDelay(config))
+  , actual_delay_s_(actualDelay(plan))
   , accumulator_(makeAccumulator(config, job))
-  , corners_(makeCornerTracker(config, nc, actual_delay_s_))
-  , settling_(nc.program(), nc.stats().gate_shift_s, nc.stats().filter_delay_s, config.energy.laser_path_tolerance_m)
+  , corners_(makeCornerTracker(config, plan, actual_delay_s_))
+  , settling_(plan.program, plan.gate_shift_s, plan.filter_delay_s, config.energy.laser_path_tolerance_m)
   , placement_(job, config.energy.laser_path_tolerance_m)
-  , trace_(nc.totalSamples(), kMaxTraceRows)
-  , nc_stats_(nc.stats())
-  , quality_(makeLayerQuality(config, job, nc, actual_delay_s_))
+  , trace_(plan.total_samples, kMaxTraceRows)
+  , nc_stats_(planStats(plan))
+  , quality_(makeLayerQuality(config, job, plan, actual_delay_s_))
 {
   // A crop that misses the map is a setting error: said now, not after the run.
   const TiledEnergyMap& map = accumulator_.map();

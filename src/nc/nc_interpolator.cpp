@@ -123,7 +123,7 @@ struct NcInterpolator::Igt
 
 struct NcInterpolator::State
 {
-  NcProgram program;
+  NcPlan plan;
   PathTimeline::Cursor path_cursor;
   LaserGate::Cursor gate_cursor;
   bool adaptive = false;
@@ -158,6 +158,10 @@ NcInterpolator::NcInterpolator(const NcConfig& config, const Recipe& recipe, con
   : config_(config), recipe_(recipe), optics_(optics), igt_(std::make_unique<Igt>())
 {
   config_.validate();
+  if (servo_model != nullptr)
+  {
+    servo_delay_s_ = GalvoServo(*servo_model, config_.period_s).lowFrequencyDelay().maxCoeff();
+  }
   if (config_.power_mode == "predicted")
   {
     if (servo_model == nullptr)
@@ -214,8 +218,8 @@ void NcInterpolator::start(const Job& job)
   }
   NcProgramOptions options = NcProgramOptions::from(config_, recipe_);
   options.speed_cap_mps = speed_cap;
-  st->program = buildNcProgram(job, options);
-  const PathTimeline& timeline = st->program.timeline;
+  st->plan.program = buildNcProgram(job, options);
+  const PathTimeline& timeline = st->plan.program.timeline;
   if (!timeline.hasPoints())
   {
     throw InputError("NC: job '" + job.name + "' has no move (no point, or all its points are the same)");
@@ -282,7 +286,7 @@ void NcInterpolator::start(const Job& job)
   st->q_prev2 = q0;  // at rest before the start
   st->q_inter_prev = q0;
   st->q_inter_prev2 = q0;
-  st->stats.program = st->program.stats;
+  st->stats.program = st->plan.program.stats;
   st->stats.speed_cap_mps = speed_cap;
   st->stats.filter_delay_s = filter_delay_s;
   st->stats.gate_shift_s = st->gate_shift_s;
@@ -294,12 +298,24 @@ void NcInterpolator::start(const Job& job)
   // Samples n = 0 .. N−1 cover the program, the filters' settling (2·delay) and the last laser
   // window, then the tail (a time within 1e-9 relative of a sample counts as on it).
   double end_s = timeline.duration() + 2.0 * filter_delay_s;
-  const auto& windows = st->program.gate.windows();
+  const auto& windows = st->plan.program.gate.windows();
   if (!windows.empty())
   {
     end_s = std::max(end_s, windows.back().off_s + st->gate_shift_s);
   }
   st->total = ceilSnapped((end_s + config_.tail_s) / ts) + 1;
+
+  NcPlan& plan = st->plan;
+  plan.job_name = job.name;
+  plan.period_s = ts;
+  plan.total_samples = st->total;
+  plan.speed_cap_mps = speed_cap;
+  plan.filter_delay_s = filter_delay_s;
+  plan.gate_shift_s = st->gate_shift_s;
+  plan.longest_t1_s = st->stats.longest_t1_s;
+  plan.longest_t2_s = st->stats.longest_t2_s;
+  plan.start_joints_rad = q0;
+  plan.servo_delay_s = servo_delay_s_;
   state_ = std::move(st);
 }
 
@@ -329,7 +345,7 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
   }
   const bool speed_power = (config_.power_mode != "constant");
   const bool t2_identity = !st.adaptive && st.fir2.duration() == 0.0;
-  const PathTimeline& timeline = st.program.timeline;
+  const PathTimeline& timeline = st.plan.program.timeline;
 
   // One IGT solve; on failure the job is abandoned (done() is true, start() again to continue).
   auto solveOrAbandon = [&](const Eigen::Vector2d& x, const Eigen::Vector2d& guess, std::uint64_t n, double t_s,
@@ -490,10 +506,10 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
   for (std::size_t i = 0; i < count; ++i)
   {
     const double command_s = static_cast<double>(st.next + i) * ts - st.gate_shift_s;
-    double power = st.program.gate.powerAt(command_s, st.gate_cursor);
+    double power = st.plan.program.gate.powerAt(command_s, st.gate_cursor);
     if (speed_power && power > 0.0)
     {
-      const double programmed = st.program.gate.speedAt(command_s, st.gate_cursor);
+      const double programmed = st.plan.program.gate.speedAt(command_s, st.gate_cursor);
       if (programmed > 0.0)  // a dwell is meant to stand still: full power
       {
         power *= std::min(1.0, std::max(config_.power_floor, st.plane_speeds[i] / programmed));
@@ -518,7 +534,7 @@ std::uint64_t NcInterpolator::totalSamples() const
 
 double NcInterpolator::pathDuration() const
 {
-  return state_ ? state_->program.timeline.duration() : 0.0;
+  return state_ ? state_->plan.pathDuration() : 0.0;
 }
 
 const NcStats& NcInterpolator::stats() const
@@ -532,6 +548,15 @@ const NcProgram& NcInterpolator::program() const
   {
     throw std::logic_error("NcInterpolator::program() before start() (or after an abandoned job)");
   }
-  return state_->program;
+  return state_->plan.program;
+}
+
+const NcPlan& NcInterpolator::plan() const
+{
+  if (!state_)
+  {
+    throw std::logic_error("NcInterpolator::plan() before start() (or after an abandoned job)");
+  }
+  return state_->plan;
 }
 }  // namespace scanhead

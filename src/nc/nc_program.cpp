@@ -365,7 +365,21 @@ NcProgram buildNcProgram(const Job& job, const NcProgramOptions& options)
   ProgramBuilder builder(base.segments(), effective, program.stats);
   program.timeline = PathTimeline::fromSegments(builder.build());
   program.stats.added_time_s = program.timeline.duration() - base.duration();
-  program.gate = LaserGate(program.timeline, options.recipe.laser_on_delay_s, options.recipe.laser_off_delay_s);
+  program.laser_on_delay_s = options.recipe.laser_on_delay_s;
+  program.laser_off_delay_s = options.recipe.laser_off_delay_s;
+  program.gate = LaserGate(program.timeline, program.laser_on_delay_s, program.laser_off_delay_s);
+  return program;
+}
+
+NcProgram ncProgramFromSegments(std::vector<PathSegment> segments, double laser_on_delay_s, double laser_off_delay_s,
+                                const NcProgramStats& stats)
+{
+  NcProgram program;
+  program.timeline = PathTimeline::fromSegments(std::move(segments));
+  program.laser_on_delay_s = laser_on_delay_s;
+  program.laser_off_delay_s = laser_off_delay_s;
+  program.gate = LaserGate(program.timeline, laser_on_delay_s, laser_off_delay_s);
+  program.stats = stats;
   return program;
 }
 }  // namespace scanhead

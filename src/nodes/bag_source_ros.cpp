@@ -19,7 +19,7 @@ BagSourceNode::BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
   bag_.open(path, rosbag::bagmode::Read);
   // rosbag record stores the names as given on its command line: relative or resolved.
   std::vector<std::string> topics;
-  for (const char* name : {"cam/job", "nc/setpoint", "nc/laser"})
+  for (const char* name : {"cam/job", "nc/plan", "nc/setpoint", "nc/laser"})
   {
     topics.push_back(name);
     topics.push_back(nh.resolveName(name));
@@ -27,8 +27,14 @@ BagSourceNode::BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
   view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(topics));
   if (view_->size() == 0)
     throw InputError(path + ": no cam/job, nc/setpoint or nc/laser messages to replay");
+  // The energy stage takes each job's timing from the NC's plan: a bag without it cannot be replayed.
+  rosbag::View plans(bag_, rosbag::TopicQuery(std::vector<std::string>{"nc/plan", nh.resolveName("nc/plan")}));
+  if (plans.size() == 0)
+    throw InputError(path + ": no nc/plan messages (recorded by a scanhead older than the NC plan message): "
+                            "record it again with virtual_machine.launch record:=true");
   next_ = view_->begin();
   job_pub_ = nh.advertise<ScanJob>("cam/job", 1, true);
+  plan_pub_ = nh.advertise<NcJobPlan>("nc/plan", 1, true);
   ack_sub_ = nh.subscribe("energy/ack", 100, &BagSourceNode::onAck, this, ros::TransportHints().tcpNoDelay());
   timer_ = nh.createTimer(ros::Duration(0.01), &BagSourceNode::onTimer, this);
   ROS_INFO("bag_source: replaying %u messages from %s", view_->size(), path.c_str());
@@ -57,6 +63,8 @@ void BagSourceNode::pump()
       window_.start(job->job_id, window_samples_);
       job_pub_.publish(*job);
     }
+    else if (const auto plan = m.instantiate<NcJobPlan>())
+      plan_pub_.publish(*plan);
     else if (const auto setpoint = m.instantiate<NcSetpoint>())
     {
       setpoint_out_.push(*setpoint);

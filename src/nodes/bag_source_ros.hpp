@@ -9,6 +9,7 @@
 #include <scanhead/ChunkAck.h>
 #include <scanhead/NcLaser.h>
 #include <scanhead/NcSetpoint.h>
+#include <scanhead/NcJobPlan.h>
 #include <scanhead/ScanJob.h>
 
 #include <memory>
@@ -35,7 +36,7 @@ private:
   rosbag::Bag bag_;
   std::unique_ptr<rosbag::View> view_;
   rosbag::View::iterator next_;
-  ros::Publisher job_pub_;
+  ros::Publisher job_pub_, plan_pub_;
   ChunkOutlet<NcSetpoint> setpoint_out_;
   ChunkOutlet<NcLaser> laser_out_;
   ros::Subscriber ack_sub_;

@@ -6,6 +6,7 @@
 #include "ros_config.hpp"
 #include "ros_energy_views.hpp"
 #include "ros_conversions.hpp"
+#include "scanhead/chain/config_io.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
 #include "scanhead/chain/results_writer.hpp"
 
@@ -17,7 +18,7 @@ constexpr std::size_t kMaxWaitingChunks = 4096;
 }  // namespace
 
 EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
-  : config_(chainConfigFromParams(nh)), optics_(opticalModelFromParams(nh, config_.optics)), nh_(nh)
+  : config_(chainConfigFromParams(nh)), settings_yaml_(chainConfigToYaml(config_)), nh_(nh)
 {
   std::string base_dir;
   private_nh.param("out", out_, std::string());
@@ -38,6 +39,7 @@ EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandl
   markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>(
       "energy/path_markers", 1, [this](const ros::SingleSubscriberPublisher&) { publishViews(); }, {}, {}, true);
   job_sub_ = nh.subscribe("cam/job", 10, &EnergyAccumulatorNode::onJob, this);
+  plan_sub_ = nh.subscribe("nc/plan", 10, &EnergyAccumulatorNode::onPlan, this);
   spot_sub_ = nh.subscribe("optics/spot", 0, &EnergyAccumulatorNode::onSpot, this, ros::TransportHints().tcpNoDelay());
 }
 
@@ -46,6 +48,39 @@ void EnergyAccumulatorNode::onJob(const ScanJob& msg)
   jobs_[msg.job_id] = fromMsg(msg);
   while (jobs_.size() > 8)
     jobs_.erase(jobs_.begin());
+  retryWaiting();
+}
+
+void EnergyAccumulatorNode::onPlan(const NcJobPlan& msg)
+{
+  try
+  {
+    plans_[msg.job_id] = fromMsg(msg);
+    while (plans_.size() > 8)
+      plans_.erase(plans_.begin());
+    // The plan carries the NC's timing, so corners stay on time whatever this node's settings;
+    // but a graph whose stages are configured differently is a mistake worth saying.
+    const std::vector<std::string> differ =
+        differingSettings(msg.settings_yaml, settings_yaml_, {"stream", "nc", "recipe", "servo", "optics"});
+    if (!differ.empty())
+    {
+      std::string text;
+      for (const std::string& line : differ)
+        text += "\n  " + line;
+      ROS_ERROR("energy: configured differently from the NC node (NC's value vs this node's):%s\n"
+                "The NC's plan is used; give every node the same config (and set:=) to compare runs.",
+                text.c_str());
+    }
+  }
+  catch (const std::exception& e)
+  {
+    ROS_ERROR("energy: nc/plan of job %u rejected: %s", msg.job_id, e.what());
+  }
+  retryWaiting();
+}
+
+void EnergyAccumulatorNode::retryWaiting()
+{
   std::deque<SpotStream::ConstPtr> waiting;
   waiting.swap(waiting_);
   for (const auto& chunk : waiting)
@@ -54,12 +89,12 @@ void EnergyAccumulatorNode::onJob(const ScanJob& msg)
 
 void EnergyAccumulatorNode::onSpot(const SpotStream::ConstPtr& msg)
 {
-  if (jobs_.count(msg->chunk.job_id) == 0)
+  if (jobs_.count(msg->chunk.job_id) == 0 || plans_.count(msg->chunk.job_id) == 0)
   {
-    waiting_.push_back(msg);  // the latched job has not arrived yet
+    waiting_.push_back(msg);  // the latched job or plan has not arrived yet
     if (waiting_.size() > kMaxWaitingChunks)
     {
-      ROS_ERROR("energy: no cam/job for job %u: chunk at sample %llu dropped", waiting_.front()->chunk.job_id,
+      ROS_ERROR("energy: no cam/job or nc/plan for job %u: chunk at sample %llu dropped", waiting_.front()->chunk.job_id,
                 static_cast<unsigned long long>(waiting_.front()->chunk.first_index));
       waiting_.pop_front();
     }
@@ -85,10 +120,8 @@ void EnergyAccumulatorNode::process(const SpotStream& msg)
                static_cast<unsigned long long>(next_index_));
     job_id_ = msg.chunk.job_id;
     total_samples_ = msg.chunk.total_samples;
-    // The NC's program of this job (same config, same optics): corner times and laser windows.
-    NcInterpolator nc(config_.nc, resolveRecipe(config_.recipe), *optics_, &config_.servo);
-    nc.start(jobs_.at(job_id_));
-    stage_ = std::make_unique<EnergyStage>(config_, jobs_.at(job_id_), nc);
+    // The NC's plan of this job: corner times, laser windows, delays.
+    stage_ = std::make_unique<EnergyStage>(config_, jobs_.at(job_id_), plans_.at(job_id_));
     next_index_ = 0;
     if (msg.chunk.first_index != 0)
       ROS_ERROR("energy: job %u starts at sample %llu: the first samples were lost upstream (a stage that "

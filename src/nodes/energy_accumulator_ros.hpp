@@ -1,10 +1,11 @@
 /// \file energy_accumulator_ros.hpp
-/// \brief The energy node: optics/spot in; energy/ack (flow control), energy/metrics,
+/// \brief The energy node: cam/job, nc/plan (the NC's plan of each job) and optics/spot in; energy/ack (flow control), energy/metrics,
 /// energy/map (image), energy/map_grid (on the work plane in rviz), energy/path_markers out;
 /// writes the results folder when ~out is set.
 #pragma once
 
 #include <ros/ros.h>
+#include <scanhead/NcJobPlan.h>
 #include <scanhead/ScanJob.h>
 #include <scanhead/SpotStream.h>
 
@@ -27,6 +28,9 @@ public:
 
 private:
   void onJob(const ScanJob& msg);
+  void onPlan(const NcJobPlan& msg);
+  /// \brief Feeds the chunks that came before their job or plan, now that both may be here.
+  void retryWaiting();
   void onSpot(const SpotStream::ConstPtr& msg);
   void process(const SpotStream& msg);
   void finishJob();
@@ -35,9 +39,10 @@ private:
   void publishViews();
 
   ChainConfig config_;
-  std::unique_ptr<OpticalModel> optics_;  ///< for the NC program of each job (corner times, laser windows)
+  std::string settings_yaml_;  ///< this node's settings, compared with the NC's
   std::map<std::uint32_t, Job> jobs_;  ///< recent jobs by id
-  std::deque<SpotStream::ConstPtr> waiting_;  ///< chunks that came before their job
+  std::map<std::uint32_t, NcPlan> plans_;  ///< the NC's plans of recent jobs, by id
+  std::deque<SpotStream::ConstPtr> waiting_;  ///< chunks that came before their job or plan
   std::unique_ptr<EnergyStage> stage_;
   std::unique_ptr<EnergyStage> last_stage_;  ///< the last finished job, for the views
   Job last_job_;
@@ -51,7 +56,7 @@ private:
   ros::NodeHandle nh_;
   ros::WallTimer shutdown_timer_;
   bool failed_ = false;
-  ros::Subscriber job_sub_, spot_sub_;
+  ros::Subscriber job_sub_, plan_sub_, spot_sub_;
   ros::Publisher ack_pub_, metrics_pub_, image_pub_, grid_pub_, markers_pub_;
 };
 }  // namespace scanhead

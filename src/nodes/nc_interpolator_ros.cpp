@@ -1,5 +1,6 @@
 #include "nc_interpolator_ros.hpp"
 
+#include "scanhead/chain/config_io.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
 
 #include "ros_config.hpp"
@@ -15,6 +16,8 @@ NcInterpolatorNode::NcInterpolatorNode(ros::NodeHandle& nh, ros::NodeHandle& pri
   , laser_out_(nh, "nc/laser", expectedSubscribers(nh, private_nh, "laser_subscribers", 1))
   , debug_out_(nh, "nc/debug", expectedSubscribers(nh, private_nh, "debug_subscribers", 0))
 {
+  settings_yaml_ = chainConfigToYaml(config_);
+  plan_pub_ = nh.advertise<NcJobPlan>("nc/plan", 1, true);
   job_sub_ = nh.subscribe("cam/job", 10, &NcInterpolatorNode::onJob, this);
   ack_sub_ = nh.subscribe("energy/ack", 100, &NcInterpolatorNode::onAck, this, ros::TransportHints().tcpNoDelay());
   timer_ = nh.createTimer(ros::Duration(0.01), &NcInterpolatorNode::onTimer, this);
@@ -29,6 +32,7 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
     auto nc = std::make_unique<NcInterpolator>(config_.nc, resolveRecipe(config_.recipe), *optics_, &config_.servo);
     nc->start(job);
     nc_ = std::move(nc);
+    plan_pub_.publish(toMsg(nc_->plan(), msg.job_id, settings_yaml_));  // before any chunk of the job
     window_.start(msg.job_id, config_.stream.window_chunks * config_.stream.chunk_samples);
     ROS_INFO("nc: job %u '%s': %llu samples (%.3f ms)", msg.job_id, job.name.c_str(),
              static_cast<unsigned long long>(nc_->totalSamples()), 1e3 * nc_->totalSamples() * config_.nc.period_s);

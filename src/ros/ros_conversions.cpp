@@ -226,4 +226,94 @@ SpotStream toMsg(const SpotChunk& chunk, const ChunkHeader& header)
   }
   return msg;
 }
+
+NcJobPlan toMsg(const NcPlan& plan, std::uint32_t job_id, const std::string& settings_yaml)
+{
+  NcJobPlan msg;
+  msg.job_id = job_id;
+  msg.job_name = plan.job_name;
+  msg.period_s = plan.period_s;
+  msg.total_samples = plan.total_samples;
+  msg.speed_cap_mps = plan.speed_cap_mps;
+  msg.filter_delay_s = plan.filter_delay_s;
+  msg.gate_shift_s = plan.gate_shift_s;
+  msg.longest_t1_s = plan.longest_t1_s;
+  msg.longest_t2_s = plan.longest_t2_s;
+  msg.servo_delay_s = plan.servo_delay_s;
+  msg.start_joints_rad = {plan.start_joints_rad.x(), plan.start_joints_rad.y()};
+  msg.laser_on_delay_s = plan.program.laser_on_delay_s;
+  msg.laser_off_delay_s = plan.program.laser_off_delay_s;
+  const NcProgramStats& stats = plan.program.stats;
+  msg.capped_polylines = stats.capped_polylines;
+  msg.delay_holds = stats.delay_holds;
+  msg.polygon_holds = stats.polygon_holds;
+  msg.skywritten_corners = stats.skywritten_corners;
+  msg.added_time_s = stats.added_time_s;
+  for (const PathSegment& s : plan.program.timeline.segments())
+  {
+    msg.start_x.push_back(s.start_m.x());
+    msg.start_y.push_back(s.start_m.y());
+    msg.end_x.push_back(s.end_m.x());
+    msg.end_y.push_back(s.end_m.y());
+    msg.speed_mps.push_back(s.speed_mps);
+    msg.power_w.push_back(s.power_w);
+    msg.duration_s.push_back(s.duration_s);
+    msg.length_m.push_back(s.length_m);
+    msg.flags.push_back(static_cast<std::uint8_t>((s.mark ? 1 : 0) | (s.implicit_jump ? 2 : 0) | (s.dwell ? 4 : 0) |
+                                                  (s.delay ? 8 : 0) | (s.skywriting ? 16 : 0)));
+    msg.polyline.push_back(s.polyline);
+    msg.vertex.push_back(s.vertex);
+  }
+  msg.settings_yaml = settings_yaml;
+  return msg;
+}
+
+NcPlan fromMsg(const NcJobPlan& msg)
+{
+  const std::size_t n = msg.start_x.size();
+  for (std::size_t size : {msg.start_y.size(), msg.end_x.size(), msg.end_y.size(), msg.speed_mps.size(),
+                           msg.power_w.size(), msg.duration_s.size(), msg.length_m.size(), msg.flags.size(),
+                           msg.polyline.size(), msg.vertex.size()})
+  {
+    if (size != n)
+      throw std::invalid_argument("nc/plan of job " + std::to_string(msg.job_id) + ": segment arrays of different lengths");
+  }
+  std::vector<PathSegment> segments(n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    PathSegment& s = segments[k];
+    s.start_m = Eigen::Vector2d(msg.start_x[k], msg.start_y[k]);
+    s.end_m = Eigen::Vector2d(msg.end_x[k], msg.end_y[k]);
+    s.speed_mps = msg.speed_mps[k];
+    s.power_w = msg.power_w[k];
+    s.duration_s = msg.duration_s[k];
+    s.length_m = msg.length_m[k];
+    s.mark = (msg.flags[k] & 1) != 0;
+    s.implicit_jump = (msg.flags[k] & 2) != 0;
+    s.dwell = (msg.flags[k] & 4) != 0;
+    s.delay = (msg.flags[k] & 8) != 0;
+    s.skywriting = (msg.flags[k] & 16) != 0;
+    s.polyline = static_cast<std::size_t>(msg.polyline[k]);
+    s.vertex = static_cast<std::size_t>(msg.vertex[k]);
+  }
+  NcProgramStats stats;
+  stats.capped_polylines = static_cast<std::size_t>(msg.capped_polylines);
+  stats.delay_holds = static_cast<std::size_t>(msg.delay_holds);
+  stats.polygon_holds = static_cast<std::size_t>(msg.polygon_holds);
+  stats.skywritten_corners = static_cast<std::size_t>(msg.skywritten_corners);
+  stats.added_time_s = msg.added_time_s;
+  NcPlan plan;
+  plan.job_name = msg.job_name;
+  plan.program = ncProgramFromSegments(std::move(segments), msg.laser_on_delay_s, msg.laser_off_delay_s, stats);
+  plan.period_s = msg.period_s;
+  plan.total_samples = msg.total_samples;
+  plan.speed_cap_mps = msg.speed_cap_mps;
+  plan.filter_delay_s = msg.filter_delay_s;
+  plan.gate_shift_s = msg.gate_shift_s;
+  plan.longest_t1_s = msg.longest_t1_s;
+  plan.longest_t2_s = msg.longest_t2_s;
+  plan.servo_delay_s = msg.servo_delay_s;
+  plan.start_joints_rad = Eigen::Vector2d(msg.start_joints_rad[0], msg.start_joints_rad[1]);
+  return plan;
+}
 }  // namespace scanhead

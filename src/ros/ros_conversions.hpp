@@ -5,12 +5,14 @@
 #include <scanhead/JointStreamChunk.h>
 #include <scanhead/NcDebug.h>
 #include <scanhead/NcLaser.h>
+#include <scanhead/NcJobPlan.h>
 #include <scanhead/NcSetpoint.h>
 #include <scanhead/ScanJob.h>
 #include <scanhead/SpotStream.h>
 
 #include "scanhead/common/chunk.hpp"
 #include "scanhead/job/scan_job.hpp"
+#include "scanhead/nc/nc_plan.hpp"
 
 namespace scanhead
 {
@@ -36,4 +38,10 @@ JointStreamChunk toMsg(const JointChunk& chunk, const ChunkHeader& header);
 
 SpotChunk fromMsg(const SpotStream& msg);
 SpotStream toMsg(const SpotChunk& chunk, const ChunkHeader& header);
+/// \brief The plan as a message (exact), with the sender's settings (chainConfigToYaml) for the
+/// consumers' consistency check.
+NcJobPlan toMsg(const NcPlan& plan, std::uint32_t job_id, const std::string& settings_yaml);
+/// \brief The plan of a message: the program rebuilt bit for bit (ncProgramFromSegments).
+/// \throws std::invalid_argument if the segment arrays differ in length
+NcPlan fromMsg(const NcJobPlan& msg);
 }  // namespace scanhead

@@ -60,7 +60,7 @@ std::vector<double> timedRun(const ChainConfig& config, const OpticalModel& opti
   GalvoServo servo(config.servo, config.nc.period_s);
   OpticalChainStage stage(optics);
   nc.start(job);
-  EnergyStage energy(config, job, nc);
+  EnergyStage energy(config, job, nc.plan());
   std::vector<double> t(6, 0.0);  // nc, servo, optics, energy, setup, total
   t[4] = seconds(Clock::now() - t_setup);
   while (!nc.done())

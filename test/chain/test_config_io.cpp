@@ -66,3 +66,17 @@ TEST(ConfigIo, ErrorsNameTheKeyAndOrigin)
   EXPECT_NE(errorOf([] { flattenYaml("nc: [1, 2\n", "m.yaml"); }).find("m.yaml"), std::string::npos);
   EXPECT_NE(errorOf([] { loadChainConfig("/nonexistent.yaml", {}); }).find("cannot open"), std::string::npos);
 }
+
+TEST(ConfigIo, DifferingSettingsNamesEachKeyInTheGivenSections)
+{
+  // What the energy node says when it is configured differently from the NC node.
+  const std::string a = chainConfigToYaml(loadChainConfig(kConfig, {}));
+  const std::string b = chainConfigToYaml(loadChainConfig(kConfig, {"nc.fir_t1_s=300e-6", "servo.y.bandwidth_hz=900",
+                                                                    "energy.pixel_m=2.5e-6"}));
+  EXPECT_TRUE(differingSettings(a, a, {"nc", "servo", "energy"}).empty());
+  const std::vector<std::string> differ = differingSettings(a, b, {"nc", "servo"});
+  ASSERT_EQ(differ.size(), 2u);
+  EXPECT_EQ(differ[0].rfind("nc.fir_t1_s: 0.00025999999999999998 vs 0.00029999999999999997", 0), 0u) << differ[0];
+  EXPECT_EQ(differ[1].rfind("servo.y.bandwidth_hz: ", 0), 0u) << differ[1];
+  EXPECT_EQ(differingSettings(a, b, {"energy"}).size(), 1u);  // only the sections asked for
+}

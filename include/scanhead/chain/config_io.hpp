@@ -46,6 +46,12 @@ ChainConfig loadChainConfig(const std::string& path, const std::vector<std::stri
 /// \brief The whole config as YAML, every value at full precision (round-trips bit-exactly).
 std::string chainConfigToYaml(const ChainConfig& config);
 
+/// \brief The settings that differ between two configs written by chainConfigToYaml, as
+/// "key: <value in a> vs <value in b>", sorted by key, for the keys under \p sections (e.g. "nc").
+/// \throws InputError if a text is not such YAML
+std::vector<std::string> differingSettings(const std::string& yaml_a, const std::string& yaml_b,
+                                           const std::vector<std::string>& sections);
+
 /// \brief Every known key, sorted (for help texts and error messages).
 std::vector<std::string> knownConfigKeys();
 }  // namespace scanhead

@@ -11,7 +11,8 @@
 #include "scanhead/metrics/layer_quality.hpp"
 #include "scanhead/thermal/thermal_layer.hpp"
 #include "scanhead/metrics/laser_settling.hpp"
-#include "scanhead/nc/nc_interpolator.hpp"
+#include "scanhead/nc/nc_plan.hpp"
+#include "scanhead/nc/nc_stats.hpp"
 #include "scanhead/metrics/run_metrics.hpp"
 #include "scanhead/job/scan_job.hpp"
 #include "scanhead/chain/trace_recorder.hpp"
@@ -24,11 +25,12 @@ void jobMapBounds(const Job& job, double margin_m, Eigen::Vector2d& min_corner, 
 class EnergyStage
 {
 public:
-  /// \param[in] job the job as given (map bounds)
-  /// \param[in] nc  an NC started on \p job (or on the same job with the same config): its program
-  ///                gives the corners' times and the laser windows, its stats the filter delay,
-  ///                totalSamples() the plot decimation
-  EnergyStage(const ChainConfig& config, const Job& job, const NcInterpolator& nc);
+  /// \param[in] job  the job as given (map bounds)
+  /// \param[in] plan the NC's plan of \p job (NcInterpolator::plan(), or received with the job): its
+  ///                 program gives the corners' times and the laser windows, its delays where the
+  ///                 actual path is, total_samples the plot decimation. Copied where needed.
+  /// \throws std::invalid_argument if the plan has no servo delay (an NC built without the servo model)
+  EnergyStage(const ChainConfig& config, const Job& job, const NcPlan& plan);
   /// \brief Deposits the chunk's energy and feeds every tracker; the trackers run on a second thread
   /// while the map is written (they share only the read-only chunk), joined before returning.
   void process(const SpotChunk& chunk);
@@ -61,7 +63,7 @@ private:
   std::vector<Eigen::Vector2d> mark_ends_;  ///< first and last points of the marks: not track interior
   StreamCounter counter_;
   TraceRecorder trace_;
-  NcStats nc_stats_;  ///< the NC's program figures at start (the per-sample ones stay with the NC)
+  NcStats nc_stats_;  ///< the plan's figures (the per-sample ones stay with the NC)
   LayerQuality quality_;
   std::unique_ptr<ThermalLayer> thermal_;  ///< optional (thermal.enabled)
   std::uint64_t thermal_samples_ = 0;      ///< samples given to it

@@ -5,7 +5,8 @@
 
 #include <string>
 
-#include "scanhead/nc/nc_interpolator.hpp"
+#include "scanhead/nc/nc_config.hpp"
+#include "scanhead/nc/nc_stats.hpp"
 #include "scanhead/metrics/run_metrics.hpp"
 
 namespace scanhead

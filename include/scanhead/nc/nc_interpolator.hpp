@@ -19,11 +19,14 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <memory>
 
 #include "scanhead/common/chunk.hpp"
 #include "scanhead/nc/nc_config.hpp"
+#include "scanhead/nc/nc_plan.hpp"
 #include "scanhead/nc/nc_program.hpp"
+#include "scanhead/nc/nc_stats.hpp"
 #include "scanhead/optics/optical_model.hpp"
 #include "scanhead/job/recipe.hpp"
 #include "scanhead/job/scan_job.hpp"
@@ -38,28 +41,13 @@ struct NcOutput
   NcDebugChunk debug;  ///< empty unless NcConfig::debug
 };
 
-/// \brief What the NC did to a job, for reports (accumulated over the samples produced so far).
-struct NcStats
-{
-  NcProgramStats program;
-  double speed_cap_mps = 0.0;        ///< cap applied to every polyline (infinity: none) [m/s]
-  double filter_delay_s = 0.0;       ///< delay of Q_filt2 behind the command: (T1+T2)/2 or D [s]
-  double gate_shift_s = 0.0;         ///< filter_delay_s − (T1+T2)/2: the laser gate follows it [s]
-  double longest_t1_s = 0.0;         ///< adaptive: T1 of the fastest knot (fixed: T1) [s]
-  double longest_t2_s = 0.0;         ///< adaptive: T2 of the fastest knot (fixed: T2) [s]
-  Eigen::Vector2d max_accel_radps2 = Eigen::Vector2d::Zero();  ///< max |q̈| of Q_filt2 per axis
-  Eigen::Vector2d max_jerk_radps3 = Eigen::Vector2d::Zero();   ///< max |Δq̈/Ts| of Q_filt2 per axis
-  std::uint64_t samples_over_accel = 0;  ///< samples with |q̈_i| > A (1e-6 relative slack)
-  std::uint64_t samples_over_jerk = 0;   ///< samples with |Δq̈_i/Ts| > J (1e-6 relative slack)
-  std::uint64_t laser_on_samples = 0;
-};
-
 class NcInterpolator
 {
 public:
   /// \param[in] optics used for the inverse geometric transform (kept by reference: must outlive this)
-  /// \param[in] servo_model the servo the NC predicts the actual path with (power_mode "predicted";
-  ///            copied; may be null otherwise)
+  /// \param[in] servo_model the servo behind the NC: its delay goes into the plan
+  ///            (NcPlan::servo_delay_s, NaN without it), and power_mode "predicted" runs it on the
+  ///            setpoint (copied; may be null otherwise)
   /// \throws ConfigError on a bad config; InputError / NumericalError on a bad table file or an
   /// optics that cannot reach the table's nodes
   NcInterpolator(const NcConfig& config, const Recipe& recipe, const OpticalModel& optics,
@@ -77,15 +65,15 @@ public:
   NcOutput process(std::size_t max_samples);
 
   bool done() const;
-  /// \brief Samples the whole job produces, tail included:
-  /// \f[ N = \lceil (t_{end} + t_{tail}) / T_s \rceil + 1,\quad
-  ///     t_{end} = \max(D_{program} + 2 D,\ \text{last laser-off} + \text{shift}) \f]
-  /// (a ratio within 1e-9 of an integer counts as that integer). 0 before start().
+  /// \brief Samples the whole job produces, tail included (NcPlan::total_samples). 0 before start().
   std::uint64_t totalSamples() const;
   double pathDuration() const;  ///< duration of the NC program (Σ L/v + delays + skywriting) [s]
   const NcStats& stats() const;
   /// \brief The program of the job given to start(). \pre start() was called (throws std::logic_error otherwise)
   const NcProgram& program() const;
+  /// \brief The plan of the job given to start() (nc_plan.hpp). \pre start() was called (throws
+  /// std::logic_error otherwise)
+  const NcPlan& plan() const;
   const NcConfig& config() const { return config_; }
 
 private:
@@ -96,6 +84,7 @@ private:
   const OpticalModel& optics_;
   std::unique_ptr<Igt> igt_;
   std::unique_ptr<ServoConfig> servo_model_;  ///< power_mode "predicted" only
+  double servo_delay_s_ = std::numeric_limits<double>::quiet_NaN();  ///< of the servo model, if given (NcPlan)
   Eigen::Vector2d joint_gains_ = Eigen::Vector2d::Zero();  ///< rad/m, computed when the limits are used
   std::unique_ptr<State> state_;
   NcStats empty_stats_;

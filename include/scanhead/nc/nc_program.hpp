@@ -8,6 +8,7 @@
 
 #include "scanhead/nc/laser_gate.hpp"
 #include "scanhead/nc/nc_config.hpp"
+#include "scanhead/nc/nc_stats.hpp"
 #include "scanhead/job/path_timeline.hpp"
 #include "scanhead/job/recipe.hpp"
 #include "scanhead/job/scan_job.hpp"
@@ -29,20 +30,12 @@ struct NcProgramOptions
   static NcProgramOptions from(const NcConfig& nc, const Recipe& recipe);
 };
 
-/// \brief Counts of what the builder changed, for reports.
-struct NcProgramStats
-{
-  std::size_t capped_polylines = 0;     ///< polylines slowed to speed_cap_mps
-  std::size_t delay_holds = 0;          ///< mark + jump delay holds inserted
-  std::size_t polygon_holds = 0;        ///< polygon delay holds inserted
-  std::size_t skywritten_corners = 0;   ///< corners replaced by run-out, turn, run-in
-  double added_time_s = 0.0;            ///< program duration − Σ L/v of the recipe's job after the speed cap [s]
-};
-
 struct NcProgram
 {
   PathTimeline timeline;  ///< what X_inter follows
   LaserGate gate;         ///< laser power on the command timeline
+  double laser_on_delay_s = 0.0;   ///< the gate's laser-on delay [s]
+  double laser_off_delay_s = 0.0;  ///< the gate's laser-off delay [s]
   NcProgramStats stats;
 };
 
@@ -81,4 +74,11 @@ struct NcProgram
 /// nc.mark_delay_s, nc.jump_delay_s, nc.polygon_delay_s, nc.skywriting.*, recipe.*,
 /// nc_program.speed_cap_mps)
 NcProgram buildNcProgram(const Job& job, const NcProgramOptions& options);
+
+/// \brief The program of \p segments (a built program's timeline().segments(), e.g. received in a
+/// message) with its gate delays and counts: the timeline and gate are rebuilt by the same
+/// functions from the same numbers, so the result is bit-identical to the program they came from.
+/// \throws what PathTimeline::fromSegments and LaserGate throw
+NcProgram ncProgramFromSegments(std::vector<PathSegment> segments, double laser_on_delay_s, double laser_off_delay_s,
+                                const NcProgramStats& stats);
 }  // namespace scanhead
