@@ -108,26 +108,22 @@ void EnergyAccumulator::reset()
 {
   map_.clear();
   has_pending_ = false;
-  started_ = false;
-  next_index_ = 0;
+  sequence_.reset();
   period_s_ = 0.0;
   outside_j_ = 0.0;
 }
 
 void EnergyAccumulator::process(const SpotChunk& chunk)
 {
-  const std::uint64_t n = chunk.samples.size();
-  for (std::uint64_t k = 0; k < n; ++k)
+  const bool started = sequence_.started();
+  const ChunkAdmission admission = sequence_.admit(chunk.first_index, chunk.samples.size());
+  if (admission.broken(started) && has_pending_)
   {
-    const std::uint64_t index = chunk.first_index + k;
-    if (started_ && index < next_index_)
-    {
-      continue;  // overlap or late chunk: this index was already accumulated
-    }
-    if (started_ && index > next_index_ && has_pending_)
-    {
-      finish();  // gap: the pending sample's successor is lost, deposit it where it stands
-    }
+    finish();  // gap: the pending sample's successor is lost, deposit it where it stands
+  }
+  // Samples before admission.skip were already accumulated (overlap or late chunk).
+  for (std::size_t k = admission.skip; k < chunk.samples.size(); ++k)
+  {
     const SpotSample& s = chunk.samples[k];
     if (has_pending_ && pending_.power_w > 0.0)
     {
@@ -136,8 +132,6 @@ void EnergyAccumulator::process(const SpotChunk& chunk)
     pending_ = s;
     period_s_ = chunk.period_s;
     has_pending_ = true;
-    started_ = true;
-    next_index_ = index + 1;
   }
 }
 

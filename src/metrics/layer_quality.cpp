@@ -127,13 +127,12 @@ void LayerQuality::process(const SpotChunk& chunk)
     program_samples_ = static_cast<std::uint64_t>(std::ceil(report_.layer_time_s / period_s_ - 1e-9));
     report_.commanded_points = program_samples_;
   }
-  for (std::size_t n = 0; n < chunk.samples.size(); ++n)
+  const ChunkAdmission admission = sequence_.admit(chunk.first_index, chunk.samples.size());
+  for (std::size_t n = admission.skip; n < chunk.samples.size(); ++n)  // earlier ones already seen
   {
     const std::uint64_t m = chunk.first_index + n;
-    if (started_ && m < next_index_)
-      continue;  // already seen
     const SpotSample& s = chunk.samples[n];
-    if (started_ && m > next_index_)
+    if (n == admission.skip && admission.broken(started_))
     {
       // Gap: the commands whose window meets the samples before it use those; those whose window
       // lies in the gap are unmatched; the others wait for the samples after it.

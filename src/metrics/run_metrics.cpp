@@ -78,17 +78,15 @@ void CornerTracker::process(const SpotChunk& chunk)
 {
   period_s_ = chunk.period_s;
   const std::size_t n = chunk.samples.size();
-  for (std::size_t k = 0; k < n; ++k)
+  const bool started = sequence_.started();
+  const ChunkAdmission admission = sequence_.admit(chunk.first_index, n);
+  if (admission.broken(started))
+  {
+    history_ = 0;  // gap: do not join the path across it
+  }
+  for (std::size_t k = admission.skip; k < n; ++k)  // earlier ones already seen
   {
     const std::uint64_t index = chunk.first_index + k;
-    if (started_ && index <= prev_index_)
-    {
-      continue;  // already seen (overlap, duplicate, late chunk)
-    }
-    if (started_ && index != prev_index_ + 1)
-    {
-      history_ = 0;  // gap: do not join the path across it
-    }
     const SpotSample& s = chunk.samples[k];
     if (history_ >= 1 && !corners_.empty())
     {
@@ -98,8 +96,6 @@ void CornerTracker::process(const SpotChunk& chunk)
     prev_[0] = prev_[1];
     prev_[1] = s;
     history_ = std::min(history_ + 1, 2);
-    prev_index_ = index;
-    started_ = true;
   }
 }
 
@@ -166,17 +162,8 @@ void StreamCounter::process(const SpotChunk& chunk)
   {
     return;
   }
-  std::uint64_t skip = 0;
-  if (chunk.first_index < next_index_)
-  {
-    skip = std::min<std::uint64_t>(n, next_index_ - chunk.first_index);  // overlapping samples
-    dropped_ += skip;
-  }
-  else if (chunk.first_index > next_index_)
-  {
-    dropped_ += chunk.first_index - next_index_;  // gap
-  }
-  for (std::uint64_t k = skip; k < n; ++k)
+  const std::size_t skip = sequence_.admit(chunk.first_index, n).skip;  // counts gaps and overlaps
+  for (std::size_t k = skip; k < n; ++k)
   {
     const double power = chunk.samples[k].power_w;
     if (power > 0.0)
@@ -185,7 +172,5 @@ void StreamCounter::process(const SpotChunk& chunk)
     }
     energy_j_ += power * chunk.period_s;
   }
-  samples_ += n - skip;
-  next_index_ = std::max(next_index_, chunk.first_index + n);
 }
 }  // namespace scanhead

@@ -117,29 +117,35 @@ void EnergyAccumulatorNode::process(const SpotStream& msg)
   {
     if (stage_)
       ROS_WARN("energy: job %u interrupted by job %u after %llu samples", job_id_, msg.chunk.job_id,
-               static_cast<unsigned long long>(next_index_));
+               static_cast<unsigned long long>(sequence_.next()));
     job_id_ = msg.chunk.job_id;
     total_samples_ = msg.chunk.total_samples;
     // The NC's plan of this job: corner times, laser windows, delays.
     stage_ = std::make_unique<EnergyStage>(config_, jobs_.at(job_id_), plans_.at(job_id_));
-    next_index_ = 0;
+    sequence_.reset();
     if (msg.chunk.first_index != 0)
       ROS_ERROR("energy: job %u starts at sample %llu: the first samples were lost upstream (a stage that "
                 "connected late?); they are counted as dropped",
                 job_id_, static_cast<unsigned long long>(msg.chunk.first_index));
   }
   const SpotChunk chunk = fromMsg(msg);
-  stage_->process(chunk);
-  next_index_ = std::max(next_index_, chunk.endIndex());
+  stage_->process(chunk);  // the stage counts gaps and overlaps itself (dropped_samples)
+  const bool started = sequence_.started();
+  const ChunkAdmission admission = sequence_.admit(chunk.first_index, chunk.samples.size());
+  if (admission.broken(started) || admission.skip > 0)
+    ROS_WARN("energy: job %u: chunk at sample %llu: %llu samples missing before it, %zu already seen "
+             "(counted in dropped_samples)", job_id_, static_cast<unsigned long long>(chunk.first_index),
+             static_cast<unsigned long long>(admission.missing), admission.skip);
+  const std::uint64_t next_index = sequence_.next();
   ChunkAck ack;
   ack.job_id = job_id_;
-  ack.next_index = next_index_;
+  ack.next_index = next_index;
   ack_pub_.publish(ack);
   if (total_samples_ > 100000)  // progress on jobs longer than a second of machine time
     ROS_INFO_THROTTLE(2.0, "energy: job %u at %.0f %% (%llu of %llu samples)", job_id_,
-                    100.0 * static_cast<double>(next_index_) / static_cast<double>(std::max<std::uint64_t>(1, total_samples_)),
-                    static_cast<unsigned long long>(next_index_), static_cast<unsigned long long>(total_samples_));
-  if (next_index_ >= total_samples_)
+                    100.0 * static_cast<double>(next_index) / static_cast<double>(std::max<std::uint64_t>(1, total_samples_)),
+                    static_cast<unsigned long long>(next_index), static_cast<unsigned long long>(total_samples_));
+  if (next_index >= total_samples_)
     finishJob();
 }
 

@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "scanhead/chain/chain_config.hpp"
+#include "scanhead/common/chunk_sequencer.hpp"
 #include "scanhead/chain/energy_stage.hpp"
 
 namespace scanhead
@@ -49,7 +50,7 @@ private:
   bool views_published_ = false;
   std::uint32_t job_id_ = 0;
   std::uint64_t total_samples_ = 0;
-  std::uint64_t next_index_ = 0;
+  ChunkSequencer sequence_;  ///< how far the spot stream got (the ack), its gaps and overlaps
   std::string out_;
   bool exit_when_done_ = false;
   double shutdown_delay_s_ = 0.0;

@@ -43,15 +43,16 @@ void GalvoServoNode::onSetpoint(const NcSetpoint& msg)
       servo_ = std::make_unique<GalvoServo>(servo_config_, period_s_);
       servo_->reset(setpoint.samples.front().position);
       job_id_ = msg.chunk.job_id;
-      next_index_ = 0;
+      sequence_.reset();
     }
-    if (msg.chunk.first_index != next_index_)
+    const std::uint64_t expected = sequence_.next();
+    sequence_.admit(msg.chunk.first_index, setpoint.samples.size());
+    if (msg.chunk.first_index != expected)
       ROS_ERROR("galvo: job %u: expected sample %llu, got %llu (gap or reordering upstream)", job_id_,
-                static_cast<unsigned long long>(next_index_), static_cast<unsigned long long>(msg.chunk.first_index));
+                static_cast<unsigned long long>(expected), static_cast<unsigned long long>(msg.chunk.first_index));
     const JointChunk joints = servo_->process(setpoint);
-    next_index_ = joints.endIndex();
     joints_out_.push(toMsg(joints, msg.chunk));
-    const bool last = next_index_ >= msg.chunk.total_samples;
+    const bool last = joints.endIndex() >= msg.chunk.total_samples;
     if (!joints.samples.empty() && (last || (ros::WallTime::now() - last_display_).toSec() >= display_period_s_))
       publishDisplay(joints.samples.back());
   }

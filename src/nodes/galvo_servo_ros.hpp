@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "ros_chunk_outlet.hpp"
+#include "scanhead/common/chunk_sequencer.hpp"
 #include "scanhead/servo/galvo_servo.hpp"
 
 namespace scanhead
@@ -34,7 +35,7 @@ private:
   ros::Subscriber setpoint_sub_;
   ros::Timer timer_;
   std::uint32_t job_id_ = 0;
-  std::uint64_t next_index_ = 0;
+  ChunkSequencer sequence_;  ///< gaps and reordering of the setpoint stream
   double display_period_s_ = 1.0 / 30.0;
   ros::WallTime last_display_;
   JointSample last_display_sample_;  ///< at rest at 0 before the first job

@@ -56,11 +56,16 @@ struct Stats
 std::vector<double> timedRun(const ChainConfig& config, const OpticalModel& optics, const Job& job, std::uint64_t& samples)
 {
   const auto t_setup = Clock::now();
-  NcInterpolator nc(config.nc, resolveRecipe(config.recipe), optics, &config.servo);
-  GalvoServo servo(config.servo, config.nc.period_s);
-  OpticalChainStage stage(optics);
-  nc.start(job);
-  EnergyStage energy(config, job, nc.plan());
+  // The stages as the batch chain and the nodes drive them (chain_stages.hpp).
+  NcStage nc(config, optics);
+  ServoStage servo(config.servo, config.nc.period_s);
+  OpticsStage stage(optics);
+  EnergySinkStage energy(config);
+  nc.reset(job);
+  const PlannedJob planned{job, nc.plan()};
+  servo.reset(planned);
+  stage.reset(planned);
+  energy.reset(planned);
   std::vector<double> t(6, 0.0);  // nc, servo, optics, energy, setup, total
   t[4] = seconds(Clock::now() - t_setup);
   while (!nc.done())
@@ -68,11 +73,9 @@ std::vector<double> timedRun(const ChainConfig& config, const OpticalModel& opti
     auto a = Clock::now();
     const NcOutput out = nc.process(config.stream.chunk_samples);
     auto b = Clock::now();
-    if (out.setpoint.first_index == 0)
-      servo.reset(out.setpoint.samples.front().position);
     const JointChunk joints = servo.process(out.setpoint);
     auto c = Clock::now();
-    const SpotChunk spots = stage.process(out.setpoint, joints, out.laser);
+    const SpotChunk spots = stage.process({out.setpoint, joints, out.laser});
     auto d = Clock::now();
     energy.process(spots);
     auto e = Clock::now();
@@ -85,7 +88,7 @@ std::vector<double> timedRun(const ChainConfig& config, const OpticalModel& opti
   energy.finish();
   t[3] += seconds(Clock::now() - f);
   t[5] = t[0] + t[1] + t[2] + t[3] + t[4];
-  samples = nc.totalSamples();
+  samples = nc.plan().total_samples;
   return t;
 }
 

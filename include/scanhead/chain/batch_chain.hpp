@@ -6,10 +6,7 @@
 #include <memory>
 
 #include "scanhead/chain/chain_config.hpp"
-#include "scanhead/chain/energy_stage.hpp"
-#include "scanhead/servo/galvo_servo.hpp"
-#include "scanhead/nc/nc_interpolator.hpp"
-#include "scanhead/optics/optical_chain_stage.hpp"
+#include "scanhead/chain/chain_stages.hpp"
 #include "scanhead/common/package_path.hpp"
 #include "scanhead/optics/optical_model.hpp"
 #include "scanhead/optics/optics_loading.hpp"
@@ -19,6 +16,8 @@ namespace scanhead
 /// \brief Called after each chunk with the samples done and the job's total.
 using ProgressCallback = std::function<void(std::uint64_t done, std::uint64_t total)>;
 
+/// \brief The stages of chain_stages.hpp, driven in one process: reset each for the job (the NC
+/// first: its plan resets the others), then chunk by chunk NC → servo → optics → energy.
 class BatchChain
 {
 public:
@@ -28,16 +27,16 @@ public:
   /// \brief Runs a validated job to the end. The energy stage stays available for the map and traces.
   RunMetrics run(const Job& job, const ProgressCallback& progress = {});
 
-  const EnergyStage& energy() const { return *energy_; }
-  const NcInterpolator& nc() const { return nc_; }
-  std::uint64_t totalSamples() const { return nc_.totalSamples(); }
+  const EnergyStage& energy() const { return energy_.stage(); }
+  const NcInterpolator& nc() const { return nc_.interpolator(); }
+  std::uint64_t totalSamples() const { return nc_.interpolator().totalSamples(); }
 
 private:
   ChainConfig config_;
-  const OpticalModel& optics_;
-  NcInterpolator nc_;
-  GalvoServo servo_;
-  OpticalChainStage optical_stage_;
-  std::unique_ptr<EnergyStage> energy_;
+  NcStage nc_;
+  ServoStage servo_;
+  OpticsStage optics_;
+  EnergySinkStage energy_;
 };
+
 }  // namespace scanhead

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "scanhead/common/chunk.hpp"
+#include "scanhead/common/chunk_sequencer.hpp"
 #include "scanhead/energy/energy_config.hpp"
 #include "scanhead/energy/spot_footprint.hpp"
 #include "scanhead/energy/tiled_energy_map.hpp"
@@ -55,8 +56,7 @@ private:
   bool has_pending_ = false;
   SpotSample pending_;
   double period_s_ = 0.0;        ///< period of the chunk that delivered the pending sample [s]
-  bool started_ = false;         ///< a sample has been seen since construction / reset()
-  std::uint64_t next_index_ = 0; ///< global index expected next
+  ChunkSequencer sequence_;      ///< which samples are new, where the stream broke
   double outside_j_ = 0.0;
   // Scratch (no allocation per sample).
   std::vector<double> gx_, gy_, row_sum_, prefix_;

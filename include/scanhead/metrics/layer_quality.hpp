@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "scanhead/common/chunk.hpp"
+#include "scanhead/common/chunk_sequencer.hpp"
 #include "scanhead/metrics/contour_error.hpp"
 #include "scanhead/energy/energy_config.hpp"
 #include "scanhead/metrics/fill_rate.hpp"
@@ -125,6 +126,7 @@ private:
   std::uint64_t ring_first_ = 0;
   std::uint64_t next_index_ = 0;
   bool started_ = false;
+  ChunkSequencer sequence_;  ///< which samples are new, where the stream broke
   std::uint64_t window_samples_ = 0;  ///< N: the same-instant search half-width [samples]
   std::uint64_t next_command_ = 0;  ///< first commanded point not evaluated yet by (b)
   double speed_ratio_sum_ = 0.0, speed_samples_ = 0.0;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "scanhead/common/chunk.hpp"
+#include "scanhead/common/chunk_sequencer.hpp"
 #include "scanhead/metrics/layer_quality.hpp"
 #include "scanhead/thermal/thermal_layer.hpp"
 #include "scanhead/nc/nc_program.hpp"
@@ -124,9 +125,8 @@ private:
   std::vector<double> min_start_s_;       ///< suffix min of start_s_ [s]
   Track setpoint_, actual_;
   int history_ = 0;                 ///< valid entries of prev_ (0..2), contiguous indices
-  SpotSample prev_[2];              ///< prev_[1]: sample prev_index_, prev_[0]: prev_index_ − 1
-  std::uint64_t prev_index_ = 0;
-  bool started_ = false;
+  SpotSample prev_[2];              ///< prev_[1]: the last sample taken, prev_[0]: the one before
+  ChunkSequencer sequence_;
   double period_s_ = 0.0;
 };
 
@@ -142,14 +142,14 @@ class StreamCounter
 public:
   void reset();
   void process(const SpotChunk& chunk);
-  std::uint64_t samples() const { return samples_; }
-  std::uint64_t dropped() const { return dropped_; }
+  std::uint64_t samples() const { return sequence_.taken(); }
+  std::uint64_t dropped() const { return sequence_.missing() + sequence_.repeated(); }
   double laserOnTime() const { return laser_on_s_; }     ///< Σ Ts over samples with power > 0 [s]
   double commandedEnergy() const { return energy_j_; }   ///< Σ P·Ts [J]
   double period() const { return period_s_; }            ///< Ts of the last chunk [s]
 
 private:
-  std::uint64_t samples_ = 0, dropped_ = 0, next_index_ = 0;
+  ChunkSequencer sequence_;
   double laser_on_s_ = 0.0, energy_j_ = 0.0, period_s_ = 0.0;
 };
 }  // namespace scanhead

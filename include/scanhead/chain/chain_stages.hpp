@@ -1,0 +1,134 @@
+/// \file chain_stages.hpp
+/// \brief The five stages of the chain behind the one Stage interface (common/stage.hpp):
+///
+/// | stage       | reset with        | process                      | finish       |
+/// |-------------|-------------------|------------------------------|--------------|
+/// | CamStage    | job argument      | (nothing) → the Job          | the Job      |
+/// | NcStage     | Job               | sample budget → NcOutput     | empty output |
+/// | ServoStage  | PlannedJob        | SetpointChunk → JointChunk   | empty chunk  |
+/// | OpticsStage | PlannedJob        | OpticsInput → SpotChunk      | empty chunk  |
+/// | EnergySinkStage | PlannedJob    | SpotChunk → samples taken    | RunMetrics   |
+///
+/// The NC is the source: its plan of the job (NcStage::plan(), nc_plan.hpp) is what every later
+/// stage is reset with, so none of them plans the job again.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "scanhead/chain/chain_config.hpp"
+#include "scanhead/chain/energy_stage.hpp"
+#include "scanhead/common/stage.hpp"
+#include "scanhead/job/scan_job.hpp"
+#include "scanhead/nc/nc_interpolator.hpp"
+#include "scanhead/nc/nc_plan.hpp"
+#include "scanhead/optics/optical_chain_stage.hpp"
+#include "scanhead/optics/optical_model.hpp"
+#include "scanhead/servo/galvo_servo.hpp"
+
+namespace scanhead
+{
+/// \brief What the stages after the NC are reset with: the job and the NC's plan of it (both must
+/// outlive the job's run).
+struct PlannedJob
+{
+  const Job& job;
+  const NcPlan& plan;
+};
+
+/// \brief A stage input that carries nothing (the CAM stage's process()).
+struct NoInput
+{
+};
+
+/// \brief The CAM stage: a job argument (built-in spec or file) becomes a validated Job.
+class CamStage final : public Stage<std::string, NoInput, Job>
+{
+public:
+  CamStage(const CamConfig& cam, double field_half_width_m) : cam_(cam), field_half_width_m_(field_half_width_m) {}
+  /// \throws InputError naming the file and what is wrong (loadJob, validateScanJob)
+  void reset(const std::string& argument) override;
+  Job process(const NoInput&) override { return job_; }
+  Job finish() override { return job_; }
+
+private:
+  CamConfig cam_;
+  double field_half_width_m_;
+  Job job_;
+};
+
+/// \brief The NC stage: reset plans the job; each process() samples up to the given number of samples.
+class NcStage final : public Stage<Job, std::size_t, NcOutput>
+{
+public:
+  /// \param[in] optics must outlive this object
+  NcStage(const ChainConfig& config, const OpticalModel& optics);
+  void reset(const Job& job) override { nc_.start(job); }
+  NcOutput process(const std::size_t& max_samples) override { return nc_.process(max_samples); }
+  NcOutput finish() override { return NcOutput(); }
+
+  bool done() const { return nc_.done(); }
+  const NcPlan& plan() const { return nc_.plan(); }
+  const NcInterpolator& interpolator() const { return nc_; }
+
+private:
+  NcInterpolator nc_;
+};
+
+/// \brief The servo stage: both axes, at rest where the job starts (the first setpoint sample).
+class ServoStage final : public Stage<PlannedJob, SetpointChunk, JointChunk>
+{
+public:
+  ServoStage(const ServoConfig& config, double period_s) : servo_(config, period_s) {}
+  void reset(const PlannedJob&) override {}
+  /// \brief The chunk at sample 0 first puts the mirrors at rest on its first setpoint.
+  JointChunk process(const SetpointChunk& setpoint) override;
+  JointChunk finish() override { return JointChunk(); }
+
+private:
+  GalvoServo servo_;
+};
+
+/// \brief The three streams the optics joins, sample-aligned (same first_index, size and period).
+struct OpticsInput
+{
+  const SetpointChunk& setpoint;
+  const JointChunk& joints;
+  const LaserChunk& laser;
+};
+
+/// \brief The optics stage: setpoint, measured joints and laser become the spot stream.
+class OpticsStage final : public Stage<PlannedJob, OpticsInput, SpotChunk>
+{
+public:
+  /// \param[in] optics must outlive this object
+  explicit OpticsStage(const OpticalModel& optics) : optics_(optics) {}
+  void reset(const PlannedJob&) override {}
+  SpotChunk process(const OpticsInput& in) override { return optics_.process(in.setpoint, in.joints, in.laser); }
+  SpotChunk finish() override { return SpotChunk(); }
+
+private:
+  OpticalChainStage optics_;
+};
+
+/// \brief The energy stage of a whole run: each reset starts a new EnergyStage on the job and
+/// its plan; process() returns the samples taken so far; finish() the run's metrics.
+class EnergySinkStage final : public Stage<PlannedJob, SpotChunk, std::uint64_t, RunMetrics>
+{
+public:
+  explicit EnergySinkStage(const ChainConfig& config) : config_(config) {}
+  void reset(const PlannedJob& job) override { stage_ = std::make_unique<EnergyStage>(config_, job.job, job.plan); }
+  /// \pre reset() was called (throws std::logic_error otherwise)
+  std::uint64_t process(const SpotChunk& chunk) override;
+  /// \pre reset() was called (throws std::logic_error otherwise)
+  RunMetrics finish() override;
+  /// \brief The energy stage of the last job (map, traces). \pre reset() was called
+  const EnergyStage& stage() const;
+
+private:
+  ChainConfig config_;
+  std::unique_ptr<EnergyStage> stage_;
+};
+}  // namespace scanhead

@@ -1,0 +1,50 @@
+#include "scanhead/chain/chain_stages.hpp"
+
+#include <stdexcept>
+
+#include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/job/job_files.hpp"
+
+namespace scanhead
+{
+void CamStage::reset(const std::string& argument)
+{
+  Job job = loadJob(argument, cam_);
+  validateScanJob(job, field_half_width_m_);
+  job_ = std::move(job);
+}
+
+NcStage::NcStage(const ChainConfig& config, const OpticalModel& optics)
+  : nc_(config.nc, resolveRecipe(config.recipe), optics, &config.servo)
+{
+}
+
+JointChunk ServoStage::process(const SetpointChunk& setpoint)
+{
+  if (setpoint.first_index == 0 && !setpoint.samples.empty())
+    servo_.reset(setpoint.samples.front().position);  // at rest where the job starts
+  return servo_.process(setpoint);
+}
+
+std::uint64_t EnergySinkStage::process(const SpotChunk& chunk)
+{
+  if (!stage_)
+    throw std::logic_error("EnergySinkStage::process() before reset()");
+  stage_->process(chunk);
+  return stage_->samplesSeen();
+}
+
+RunMetrics EnergySinkStage::finish()
+{
+  if (!stage_)
+    throw std::logic_error("EnergySinkStage::finish() before reset()");
+  return stage_->finish();
+}
+
+const EnergyStage& EnergySinkStage::stage() const
+{
+  if (!stage_)
+    throw std::logic_error("EnergySinkStage::stage() before reset()");
+  return *stage_;
+}
+}  // namespace scanhead
