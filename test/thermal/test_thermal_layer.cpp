@@ -12,6 +12,7 @@
 
 #include "fixtures/spot_stream_fixture.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/thermal/steady_moving_spot.hpp"
 #include "scanhead/thermal/thermal_layer.hpp"
 
 using scanhead::ConfigError;

@@ -1,86 +1,26 @@
 /// \file thermal_layer.hpp
-/// \brief 2D thermal model of the layer under the moving spot (SPEC §5 last bullet; PATH eq. 5).
+/// \brief 2D thermal model of the layer under the moving spot (SPEC §5 last bullet; PATH eq. 5): the
+/// model class, which cuts the spot stream into steps and runs the window (layer_window.hpp), the
+/// solver (lod_solver.hpp), the melted record (melted_record.hpp) and the melt-pool measures
+/// (melt_pool.hpp). Its results are plain structs (thermal_results.hpp); the analytic reference is
+/// steady_moving_spot.hpp.
 #pragma once
 
 #include <Eigen/Core>
-#include <array>
+#include <cstddef>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "scanhead/common/chunk.hpp"
+#include "scanhead/thermal/layer_window.hpp"
+#include "scanhead/thermal/lod_solver.hpp"
+#include "scanhead/thermal/melt_pool.hpp"
+#include "scanhead/thermal/melted_record.hpp"
 #include "scanhead/thermal/thermal_config.hpp"
+#include "scanhead/thermal/thermal_results.hpp"
 
 namespace scanhead
 {
-/// \brief One thermal time step (step_samples NC periods, fewer for the last one at finish()).
-struct ThermalStep
-{
-  std::uint64_t first_index = 0;  ///< global index of the step's first sample
-  std::uint32_t samples = 0;      ///< NC samples in the step
-  double time_s = 0.0;            ///< end of the step, (first_index + samples)·Ts [s]
-  double peak_k = 0.0;            ///< highest rise in the window at the end of the step [K]
-  double length_m = 0.0;          ///< melt-pool extent along the scan direction (0 below melting) [m]
-  double width_m = 0.0;           ///< melt-pool extent across it [m]
-  bool laser_on = false;          ///< some sample of the step had power
-  bool steady = false;            ///< counted in the steady means (laser on all the step, past settle_time_s)
-  bool pool_at_window_edge = false;  ///< the melt pool reached the window edge: length/width truncated
-};
-
-/// \brief Mean and spread of the steady steps, maxima over all steps.
-struct MeltPoolStats
-{
-  std::uint64_t steps = 0;          ///< thermal steps run
-  std::uint64_t laser_on_steps = 0;
-  std::uint64_t melting_steps = 0;  ///< steps whose peak was above melting
-  std::uint64_t steady_steps = 0;   ///< steps in the means below
-  double steady_length_mean_m = 0.0, steady_length_std_m = 0.0;
-  double steady_width_mean_m = 0.0, steady_width_std_m = 0.0;
-  double steady_peak_mean_k = 0.0, steady_peak_std_k = 0.0;
-  double max_length_m = 0.0, max_width_m = 0.0, max_peak_k = 0.0;  ///< over all steps
-};
-
-/// \brief Energy books [J], cumulative since construction / reset().
-///
-/// absorbed + phase_switch = outside + stored + lost + left_window + truncated, to rounding (residual()).
-struct ThermalEnergy
-{
-  double absorbed_j = 0.0;      ///< Σ A·P·Ts of all samples
-  double outside_j = 0.0;       ///< the part of it whose footprint fell outside the window
-  double stored_j = 0.0;        ///< now in the window, ∫ h·κ·T dA
-  double lost_j = 0.0;          ///< through the loss term ∫∫ h·(λ_s/δ²)·T dA dt
-  double phase_switch_j = 0.0;  ///< added by powder → solid switches at constant T, Σ h·(κ_melted − κ_p)·T·dA
-  double left_window_j = 0.0;   ///< carried out of the window by its re-centring
-  double truncated_j = 0.0;     ///< dropped with cells below active_threshold_k outside the hot box
-  double residual_j() const
-  {
-    return absorbed_j + phase_switch_j - outside_j - stored_j - lost_j - left_window_j - truncated_j;
-  }
-};
-
-/// \brief The window's fields as plain arrays, row-major (row j = y, row 0 at the lowest y).
-///
-/// Cells are those of the global grid of pitch cell_m anchored at the plane origin: cell (i, j) of the
-/// window is global cell (origin_i + i, origin_j + j), covering [(origin_i + i)·cell_m, +cell_m) in x.
-struct ThermalWindow
-{
-  double cell_m = 0.0;
-  std::int64_t origin_i = 0, origin_j = 0;
-  int width = 0, height = 0;
-  std::vector<double> rise_k;        ///< temperature rise over the bed T [K]
-  std::vector<std::uint8_t> solid;   ///< 1 once melted (solid properties), 0 powder
-};
-
-/// \brief The cells ever melted (global record) as a raster over their bounding box (same grid as ThermalWindow).
-struct MeltedRaster
-{
-  double cell_m = 0.0;
-  std::int64_t origin_i = 0, origin_j = 0;
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> melted;  ///< row-major, 1 = melted
-  std::uint64_t count = 0;           ///< melted cells
-};
-
 /// \brief PATH eq. 5 on a window of the layer that follows the spot.
 ///
 /// \f[ \kappa\,\partial_t T - \nabla\cdot(\lambda \nabla T) + \frac{\lambda_{solide}}{\delta^2}\,T = \frac{q}{h},
@@ -147,11 +87,12 @@ public:
   /// \brief Steps completed by the last process() / finish() call.
   const std::vector<ThermalStep>& recentSteps() const { return recent_; }
   const ThermalStep& lastStep() const { return last_; }
-  const MeltPoolStats& stats() const { return stats_; }
+  const MeltPoolStats& stats() const { return pool_stats_.stats(); }
   ThermalEnergy energy() const;  ///< with stored_j summed now
 
-  std::uint64_t meltedCellCount() const { return record_.count; }
-  double meltedArea() const { return static_cast<double>(record_.count) * cell_ * cell_; }  ///< [m²]
+  std::uint64_t meltedCellCount() const { return record_.count(); }
+  /// \brief meltedCellCount() · cell² [m²]
+  double meltedArea() const { return static_cast<double>(record_.count()) * window_.cell_m * window_.cell_m; }
   bool isMelted(const Eigen::Vector2d& p) const;  ///< the global record at the cell holding \p p
   double riseAt(const Eigen::Vector2d& p) const;  ///< bilinear T at \p p in the window, 0 outside [K]
   ThermalWindow window() const;
@@ -159,19 +100,6 @@ public:
   const ThermalConfig& config() const { return config_; }
 
 private:
-  struct Box
-  {
-    int i0 = 0, i1 = -1, j0 = 0, j1 = -1;  ///< inclusive; empty when i1 < i0
-    bool empty() const { return i1 < i0 || j1 < j0; }
-  };
-  struct Record
-  {
-    using Tile = std::array<std::uint64_t, 64>;  ///< 64 × 64 cells, bit i of word j
-    std::unordered_map<std::int64_t, Tile> tiles;
-    std::uint64_t count = 0;
-    bool get(std::int64_t gi, std::int64_t gj) const;
-    void set(std::int64_t gi, std::int64_t gj);  ///< (count += 1 if new)
-  };
   struct Pending
   {
     SpotSample sample;
@@ -180,40 +108,20 @@ private:
 
   void pushSample(const SpotSample& s, std::uint64_t index);
   void runStep(std::size_t count, const SpotSample* next);
-  void placeWindow(const Eigen::Vector2d& centre);
-  void depositPoint(double x, double y, double energy_j, Box& src_box);
-  void sweepX(const Box& b, bool first, double dt, double& lost_j);
-  void sweepY(const Box& b, bool first, double dt, double& lost_j);
-  void postStep(int& peak_i, int& peak_j);
-  void updateFaces(int i, int j);
-  void measurePool(int peak_i, int peak_j, ThermalStep& step) const;
-  double sampleLocal(double u, double v) const;  ///< bilinear T at local cell coordinates (centres at k + 0.5)
-  void addStats(const ThermalStep& step);
+  void depositPoint(double x, double y, double energy_j, CellBox& src_box);
+  void postStep(const LossHalfStep& loss, int& peak_i, int& peak_j);
 
   ThermalConfig config_;
   // Derived constants.
-  int n_ = 0;              ///< window side [cells]
-  double cell_ = 0.0, w_ = 0.0, h_area_ = 0.0;  ///< cell [m], spot radius [m], h·cell² [m³]
+  double w_ = 0.0;  ///< spot radius [m]
   double kappa_s_ = 0.0, kappa_p_ = 0.0, loss_ = 0.0, melt_rise_ = 0.0;  ///< κ_s, λ_s: of a melted cell (phase_switch)
   double lambda_s_ = 0.0;
   bool keep_energy_ = false;
-  double decay_s_ = 1.0, decay_p_ = 1.0;  ///< f = exp(−½dt·λ_s/(δ²κ)) of this step, solid / powder
-  double lost_s_ = 0.0, lost_p_ = 0.0;    ///< (1 − f)·κ·h·cell² [J/K]
-  double (*face_)(double, double) = nullptr;  ///< face conductivity rule
-  // Window fields (n_ × n_, row-major).
-  std::vector<double> t_;        ///< rise [K]
-  std::vector<double> inv_kappa_;  ///< 1/κ [m³·K/J]
-  std::vector<double> lambda_;   ///< cell conductivity [W/(m·K)]
-  std::vector<double> fx_, fy_;  ///< face conductivities: fx_ between (i, j) and (i+1, j) at j·n + i, fy_ (i, j)–(i, j+1)
-  std::vector<std::uint8_t> solid_;
-  std::vector<double> src_;      ///< energy deposited this step [J]
-  std::vector<double> cp_;       ///< Thomas scratch
-  std::vector<double> gx_, gy_;  ///< footprint weights scratch
+  // Model state.
+  LayerWindow window_;  ///< fields (n × n, row-major), placement, active box
+  MeltedRecord record_;
+  std::vector<double> gx_, gy_;         ///< footprint weights scratch
   std::vector<std::int32_t> switched_;  ///< cells switched this step (flat index)
-  bool placed_ = false;
-  std::int64_t oi_ = 0, oj_ = 0;  ///< global index of window cell (0, 0)
-  Box box_;                       ///< active box (T = 0 outside)
-  Record record_;
   // Stream.
   bool started_ = false;
   std::uint64_t next_index_ = 0;
@@ -229,34 +137,7 @@ private:
   // Outputs.
   std::vector<ThermalStep> recent_;
   ThermalStep last_;
-  MeltPoolStats stats_;
-  double sum_len_ = 0.0, sum_len2_ = 0.0, sum_wid_ = 0.0, sum_wid2_ = 0.0, sum_pk_ = 0.0, sum_pk2_ = 0.0;
+  MeltPoolAccumulator pool_stats_;
   ThermalEnergy books_;  ///< stored_j filled by energy()
 };
-
-/// \brief Steady rise T(ξ, η) [K] of the layer with a melted cell's properties everywhere (κ, λ =
-/// kappaMelted(), conductivityMelted(): κ_s, λ_s unless "consolidate"; no switch, infinite bed)
-/// under the spot moving at constant \p speed_m_s along +ξ, at (ξ, η) from the spot centre.
-///
-/// The moving-frame equation κ v ∂T/∂ξ + λ ΔT − (λ_s/δ²) T = −q/h has for a point source Q the
-/// solution \f$ T = \frac{Q}{2\pi\lambda h} e^{-v\xi/(2a)} K_0\!\left(\rho\sqrt{(v/2a)^2 + m^2}\right) \f$,
-/// a = λ/κ, m² = λ_s/(λ δ²). Convolved with the Gaussian spot it is evaluated as the time integral
-/// \f[ T(\xi,\eta) = \frac{A P}{h\kappa}\int_0^\infty \frac{e^{-t/\tau}}{2\pi\sigma^2(t)}
-///     \exp\!\left(-\frac{(\xi + v t)^2 + \eta^2}{2\sigma^2(t)}\right) dt,\quad \sigma^2 = \frac{w^2}{4} + 2 a t,\;
-///     \tau = \frac{\kappa\delta^2}{\lambda_s} \f]
-/// (adaptive Simpson, absolute tolerance 1e-7·(melt rise)). \p speed_m_s may be 0 (dwell).
-double steadyMovingSpotRise(const ThermalConfig& config, double power_w, double speed_m_s, double xi_m, double eta_m);
-
-/// \brief Melt pool of steadyMovingSpotRise: the region above melt − ambient.
-struct SteadyMeltPool
-{
-  double peak_k = 0.0;     ///< highest steady rise (on the axis) [K]
-  double peak_xi_m = 0.0;  ///< where [m] (≤ 0: behind the spot centre)
-  double front_m = 0.0;    ///< ξ of the front on the axis [m]
-  double rear_m = 0.0;     ///< ξ of the rear [m]
-  double length_m = 0.0;   ///< front − rear (0 if the peak is below melting) [m]
-  double width_m = 0.0;    ///< widest extent across [m]
-};
-/// \brief Root finding (bisection to 1e-9 m) on steadyMovingSpotRise; width the maximum over ξ.
-SteadyMeltPool steadyMeltPool(const ThermalConfig& config, double power_w, double speed_m_s);
 }  // namespace scanhead
