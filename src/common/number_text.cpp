@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 namespace scanhead
@@ -34,6 +35,18 @@ std::string fullPrecisionText(double value)
 {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.17g", value);
+  return buffer;
+}
+
+std::string shortestText(double value)
+{
+  char buffer[40];
+  for (int digits = 1; digits <= 17; ++digits)
+  {
+    std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
+    if (std::strtod(buffer, nullptr) == value)
+      break;
+  }
   return buffer;
 }
 

@@ -34,7 +34,7 @@
 ///     ((p_x, p_y, z_p) = work-plane origin in the base frame; the nominal plane is horizontal).
 ///
 /// OPT's transcribed eqs. 2–6 (SPEC §4) against ours. OPT's frames differ from ours (its galvo
-/// axes on x, mirror normals on z, per optical_defects.cpp), but its nominal parameters are
+/// axes on x, mirror normals on z, per defect_catalog.hpp), but its nominal parameters are
 /// positions and angles that can be given values for our head. With
 ///   X_p = p_x − S_x, Y_p = p_y − S_y, Z_p = z_p − S_z = −H  (plane origin in the source frame),
 ///   Y_ay0 = v_y, Z_ay0 = v_z, A_ay0 = 3π/4              (axis Y in the source frame),

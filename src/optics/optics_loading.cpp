@@ -1,6 +1,8 @@
 #include "scanhead/optics/optics_loading.hpp"
 
 #include "scanhead/common/package_path.hpp"
+#include "scanhead/optics/defect_set_spec.hpp"
+#include "scanhead/optics/urdf_defects.hpp"
 
 namespace scanhead
 {

@@ -1,6 +1,6 @@
 /// \file test_calibration.cpp
 /// \brief Calibration of the 30 assembly defects from measured spots (SPEC §4 "Perspective"):
-/// the noise generator, the null space named in calibration.cpp, the noise-free fit, the issue 5
+/// the noise generator, the null space named in calibration.hpp, the noise-free fit, the issue 5
 /// acceptance (hidden random set, 1 µm noise, table error over the field < 5 µm), the 1σ values
 /// against a Monte-Carlo spread, the YAML, options and errors.
 #include <gtest/gtest.h>
@@ -145,7 +145,7 @@ TEST(Calibration, NoiseIsGaussianWithTheRequestedSigmaAndReproducible)
   EXPECT_LT(beyond_3_sigma, 40);
 }
 
-// --- the null space named in calibration.cpp --------------------------------------------------
+// --- the null space named in calibration.hpp --------------------------------------------------
 
 TEST(Calibration, NamedNullCombinationsLeaveEverySpotUnchanged)
 {
@@ -189,7 +189,7 @@ TEST(Calibration, NoiseFreeOptTable2IsFitAndItsIdentifiablePartRecovered)
   EXPECT_LT(result.rms_residual_m, 1e-9);
   EXPECT_LT(result.max_residual_m, 1e-9);
 
-  // rank 16 of 30 (calibration.cpp: 10 exact and 4 near-null directions)
+  // rank 16 of 30 (calibration.hpp: 10 exact and 4 near-null directions)
   EXPECT_EQ(result.rank, 16);
   ASSERT_EQ(result.singular_values.size(), kDefectCount);
   EXPECT_TRUE(std::is_sorted(result.singular_values.rbegin(), result.singular_values.rend()));
@@ -198,7 +198,7 @@ TEST(Calibration, NoiseFreeOptTable2IsFitAndItsIdentifiablePartRecovered)
   EXPECT_LT(result.singular_values[16], 1e-6 * s0);  // measured 1.5e-7: the first near-null
   EXPECT_LT(result.singular_values[20], 1e-9 * s0);  // measured ≤ 2e-11: exact null directions
   ASSERT_EQ(result.null_space.size(), kDefectCount - 16);
-  // the three translations (calibration.cpp), whose rows the echelon form gives exactly
+  // the three translations (calibration.hpp), whose rows the echelon form gives exactly
   for (const char* expected : { "0.71 work_plane.x + 0.71 axis_x.y",
                                 "0.50 work_plane.y + 0.50 source.y - 0.50 axis_x.z + 0.50 axis_y.z",
                                 "0.58 work_plane.z + 0.58 source.z - 0.58 axis_y.y" })
@@ -266,7 +266,7 @@ TEST(Calibration, NoiseFreeOptTable2IsFitAndItsIdentifiablePartRecovered)
 TEST(Calibration, HiddenRandomSetWith1umNoiseCorrectsTheFieldBelow5um)
 {
   // A random machine within ±0.1 mm / ±0.1 mrad (OPT's bounds); seeds 1..10 measured in
-  // calibration.cpp: uncorrected 127–398 µm, corrected 0.38–0.90 µm.
+  // calibration.hpp: uncorrected 127–398 µm, corrected 0.38–0.90 µm.
   const DefectSet truth = randomDefectSet(3, 0.1, 0.1);
   const OpticalModel machine(applyDefects(nominal(), truth), config());
   const double noise = 1e-6;

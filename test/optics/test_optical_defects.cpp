@@ -126,7 +126,7 @@ TEST(OpticalDefects, ComponentTableIsOptTable1InOrder)
 
 TEST(OpticalDefects, MappingPutsEachComponentOnItsJointAxis)
 {
-  // The table of optical_defects.cpp, transcribed independently: OPT component → (our joint,
+  // The table of defect_catalog.hpp, transcribed independently: OPT component → (our joint,
   // t = translation / r = rotation, our axis 0 1 2 = x y z or roll pitch yaw). 1 mm / 1 mrad must
   // come out as exactly 1e-3 m / 1e-3 rad there and nothing elsewhere.
   struct Row
@@ -594,6 +594,56 @@ TEST(OpticalDefects, UrdfWithDefectsIsTheAppliedMachine)
   }
   // The nominal set leaves the URDF as it is.
   EXPECT_EQ(urdfWithDefects(text, DefectSet(), "scanhead.urdf"), text);
+}
+
+TEST(OpticalDefects, UrdfWithDefectsEditsOnlyTheOriginsWhateverTheLayout)
+{
+  // TinyXML reports where each node starts by (row, column): line ends, tabs and multi-byte
+  // characters must not shift the edits. The same URDF with CRLF line ends, tab indentation and
+  // UTF-8 in a comment on a joint's line gives the same output up to those changes.
+  const std::string text = readFile(kUrdfPath);
+  const DefectSet set = optTable2DefectSet();
+  const std::string expected = urdfWithDefects(text, set, "lf.urdf");
+  auto replaceAll = [](std::string s, const std::string& from, const std::string& to) {
+    for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size()))
+      s.replace(at, from.size(), to);
+    return s;
+  };
+  const std::string joint = "<joint name=\"mirror_x_defect_joint\" type=\"fixed\">";
+  const std::string marked = joint + "\t<!-- \xc2\xb5\xc2\xb5 -->";
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           { "\n", "\r\n" }, { "\n    ", "\n\t\t" }, { joint, marked } })
+  {
+    const std::string variant = replaceAll(text, from, to);
+    ASSERT_NE(variant, text) << "'" << to << "'";
+    EXPECT_EQ(urdfWithDefects(variant, set, "variant.urdf"), replaceAll(expected, from, to)) << "'" << to << "'";
+  }
+  // An origin with a body is replaced whole; a joint closed on its last content line gets its
+  // origin just before </joint>.
+  const std::string origin = "<origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>";
+  const std::size_t at = text.find(origin, text.find("<joint name=\"window_1_defect_joint\""));
+  ASSERT_NE(at, std::string::npos);
+  const std::string with_body = std::string(text).replace(at, origin.size(), "<origin xyz='0 0 0' rpy=\"0 0 0\" > </origin >");
+  EXPECT_EQ(urdfWithDefects(with_body, set, "body.urdf"), expected);
+  const std::size_t line = text.rfind('\n', at);
+  const std::size_t close = text.find("</joint>", at);
+  const std::string inline_close = text.substr(0, line) + text.substr(close);  // <child .../></joint>
+  const std::string out = urdfWithDefects(inline_close, set, "inline.urdf");
+  const std::string head = "<child link=\"window_1_defect\"/><origin xyz=\"0 0 0\" rpy=\"";
+  const std::size_t edited = out.find(head);
+  ASSERT_NE(edited, std::string::npos) << out.substr(line - 80, 240);
+  EXPECT_EQ(out.find("\"/></joint>", edited), out.find('>', edited + head.size()) - 2);
+  EXPECT_EQ(out.substr(0, line), expected.substr(0, line));
+  // Not well-formed: the parser's message, with the source's name.
+  try
+  {
+    urdfWithDefects(text.substr(0, close), set, "cut.urdf");
+    ADD_FAILURE() << "accepted";
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_EQ(std::string(e.what()).rfind("cut.urdf: not well-formed XML (TinyXML: ", 0), 0u) << e.what();
+  }
 }
 
 TEST(OpticalDefects, UrdfWithDefectsEdgeCases)

@@ -19,6 +19,9 @@ NumberText parseNumber(const std::string& text, double& value);
 /// \brief \p value with 17 significant digits ("%.17g"): reads back bit-exactly, so files and
 /// messages written with it reproduce the number that was used.
 std::string fullPrecisionText(double value);
+/// \brief The shortest "%.<n>g" text (n = 1 … 17) that reads back as exactly \p value: 0.1 as "0.1",
+/// not "0.10000000000000001" (defect set files, names of random sets).
+std::string shortestText(double value);
 /// \brief \p value for YAML: full precision (fullPrecisionText), NaN as .nan, ±infinity as .inf / -.inf.
 std::string yamlNumber(double value);
 /// \brief \p text as a YAML double-quoted scalar (quotes and backslashes escaped).

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "scanhead/optics/optical_defects.hpp"
+#include "scanhead/optics/defect_catalog.hpp"
 #include "scanhead/optics/optical_model.hpp"
 
 namespace scanhead

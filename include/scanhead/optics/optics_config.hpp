@@ -9,7 +9,7 @@ namespace scanhead
 struct OpticsConfig
 {
   std::string urdf_path = "urdf/scanhead.urdf";  ///< the NOMINAL head; relative paths resolve against the package share dir
-  /// The machine's assembly defects (optical_defects.hpp): nominal | opt_table2 |
+  /// The machine's assembly defects (defect_set_spec.hpp): nominal | opt_table2 |
   /// random:seed=N[,mm=B][,mrad=B] | a defect set file. A set replaces the origins of the URDF's
   /// defect joints; nominal keeps the URDF as it is. The graph reads the defective URDF from
   /// robot_description (launch arg defects:=, which sets this key too).

@@ -2,7 +2,7 @@
 /// \brief The optical model and defect set a configuration names, read from the package's files.
 #pragma once
 
-#include "scanhead/optics/optical_defects.hpp"
+#include "scanhead/optics/defect_catalog.hpp"
 #include "scanhead/optics/optical_model.hpp"
 #include "scanhead/optics/optics_config.hpp"
 
