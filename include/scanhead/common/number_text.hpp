@@ -19,6 +19,8 @@ NumberText parseNumber(const std::string& text, double& value);
 /// \brief \p value with 17 significant digits ("%.17g"): reads back bit-exactly, so files and
 /// messages written with it reproduce the number that was used.
 std::string fullPrecisionText(double value);
+/// \brief \p value with 6 significant digits ("%.6g"): for reports read by people.
+std::string sixDigitText(double value);
 /// \brief \p value for YAML: full precision (fullPrecisionText), NaN as .nan, ±infinity as .inf / -.inf.
 std::string yamlNumber(double value);
 /// \brief \p text as a YAML double-quoted scalar (quotes and backslashes escaped).
