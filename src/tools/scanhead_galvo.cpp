@@ -8,7 +8,7 @@
 #include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/common/errors.hpp"
-#include "scanhead/servo/identification/galvo_identification.hpp"
+#include "scanhead/servo/identification/identification_report.hpp"
 #include "scanhead/servo/km0/km0_config.hpp"
 #include "scanhead/servo/km0/km0_report.hpp"
 #include "scanhead/servo/loop_analysis.hpp"

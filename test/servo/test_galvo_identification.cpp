@@ -9,6 +9,7 @@
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/servo/identification/galvo_identification.hpp"
+#include "scanhead/servo/identification/identification_report.hpp"
 
 using namespace scanhead;
 
