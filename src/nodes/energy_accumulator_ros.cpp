@@ -8,6 +8,7 @@
 #include "ros_conversions.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
 #include "scanhead/chain/results_writer.hpp"
+#include "support/python_plots.hpp"
 
 namespace scanhead
 {

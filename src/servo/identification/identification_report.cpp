@@ -2,14 +2,11 @@
 #include "scanhead/servo/identification/identification_report.hpp"
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
-#include "scanhead/common/package_path.hpp"
 #include "scanhead/common/text_file.hpp"
 
 namespace scanhead
@@ -59,7 +56,7 @@ std::string bodeCsv(const IdentificationResult& r, const GalvoPlantParams& truth
 }
 
 std::string identificationReport(const GalvoPlantParams& truth, const IdentificationConfig& config,
-                                 const std::string& out_dir)
+                                 const std::string& out_dir, const PlotHook& plots)
 {
   const IdentificationResult r = identifyGalvo(truth, config);
   const auto rel = [](double identified, double true_value) { return num(identified / true_value - 1.0); };
@@ -147,11 +144,8 @@ std::string identificationReport(const GalvoPlantParams& truth, const Identifica
       throw InputError(out_dir + ": cannot create (" + ec.message() + ")");
     writeTextFile(fs::path(out_dir) / "bode.csv", bodeCsv(r, truth));
     writeTextFile(fs::path(out_dir) / "identification.yaml", yaml);
-    const std::string script = resolvePackagePath("scripts/plot_bode.py");
-    const std::string command = "/usr/bin/python3 '" + script + "' '" + out_dir + "' 2>&1";
-    if (std::system(command.c_str()) != 0)
-      std::fprintf(stderr, "scanhead: Bode plots skipped (%s failed; is python3-matplotlib installed?)\n",
-                   script.c_str());
+    if (plots)
+      plots(out_dir);
   }
   return yaml;
 }
