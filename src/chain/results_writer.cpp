@@ -2,8 +2,6 @@
 #include "scanhead/common/text_file.hpp"
 #include "scanhead/chain/results_writer.hpp"
 
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <system_error>
 
@@ -68,29 +66,5 @@ void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, 
     fs::remove_all(tmp, ec);
     throw;
   }
-}
-
-bool runPythonScript(const std::string& script, const std::vector<std::string>& arguments)
-{
-  // Each word single-quoted, its own quotes as '\'' (labels and paths come from users).
-  auto quoted = [](const std::string& word) {
-    std::string out = "'";
-    for (char c : word)
-      out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return out + "'";
-  };
-  const std::string path = resolvePackagePath(script);
-  std::string command = "/usr/bin/python3 " + quoted(path);
-  for (const std::string& argument : arguments)
-    command += " " + quoted(argument);
-  if (std::system((command + " 2>&1").c_str()) == 0)
-    return true;
-  std::fprintf(stderr, "scanhead: plots skipped (%s failed; is python3-matplotlib installed?)\n", path.c_str());
-  return false;
-}
-
-ResultsFinisher plotFinisher()
-{
-  return [](const std::string& tmp_dir) { runPythonScript("scripts/plot_results.py", { tmp_dir }); };
 }
 }  // namespace scanhead

@@ -50,6 +50,13 @@ std::string shortestText(double value)
   return buffer;
 }
 
+std::string sixDigitText(double value)
+{
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  return buffer;
+}
+
 std::string yamlNumber(double value)
 {
   if (std::isnan(value))

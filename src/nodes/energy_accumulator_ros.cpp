@@ -9,6 +9,7 @@
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
 #include "scanhead/chain/results_writer.hpp"
+#include "support/python_plots.hpp"
 
 namespace scanhead
 {

@@ -6,7 +6,7 @@
 #include "argument_cursor.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/text_file.hpp"
-#include "scanhead/chain/results_writer.hpp"
+#include "support/python_plots.hpp"
 #include "scanhead/metrics/run_comparison.hpp"
 
 namespace

@@ -8,10 +8,11 @@
 #include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/common/errors.hpp"
-#include "scanhead/servo/identification/galvo_identification.hpp"
+#include "scanhead/servo/identification/identification_report.hpp"
 #include "scanhead/servo/km0/km0_config.hpp"
 #include "scanhead/servo/km0/km0_report.hpp"
 #include "scanhead/servo/loop_analysis.hpp"
+#include "support/python_plots.hpp"
 
 namespace
 {
@@ -78,14 +79,15 @@ int main(int argc, char** argv)
     if (args.command == "loops")
       std::cout << loopsReportYaml(config.servo, args.axis);
     else if (args.command == "identify")
-      std::cout << identificationReport(axis.plant, IdentificationConfig{}, args.out);
+      std::cout << identificationReport(axis.plant, IdentificationConfig{}, args.out,
+                                        pythonPlotHook("scripts/plot_bode.py", "Bode plots"));
     else
     {
       if (args.out.empty())
         throw ConfigError("km0 needs --out DIR for its report, CSV files and plots");
       const Km0Config km0 = loadKm0Config(resolvePackagePath(args.km0_config));
       std::cout << km0Report(config.servo, args.axis, config.nc.period_s, km0, args.out,
-                             resolvePackagePath("scripts/plot_km0.py"));
+                             pythonPlotHook("scripts/plot_km0.py", "KM0 plots"));
     }
     return 0;
   }

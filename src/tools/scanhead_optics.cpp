@@ -20,7 +20,7 @@
 #include "scanhead/optics/influence_map.hpp"
 #include "scanhead/common/number_text.hpp"
 #include "scanhead/optics/optical_defects.hpp"
-#include "scanhead/chain/results_writer.hpp"
+#include "support/python_plots.hpp"
 
 namespace
 {

@@ -15,6 +15,7 @@
 #include "scanhead/metrics/metrics_report.hpp"
 #include "scanhead/chain/results_writer.hpp"
 #include "process_memory.hpp"
+#include "support/python_plots.hpp"
 
 #include <chrono>
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 #include <string>
 
@@ -9,6 +10,7 @@
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/servo/identification/galvo_identification.hpp"
+#include "scanhead/servo/identification/identification_report.hpp"
 
 using namespace scanhead;
 
@@ -155,6 +157,27 @@ TEST(GalvoIdentification, ReportAndCsv)
     EXPECT_EQ(std::count(row.begin(), row.end(), ','), 14);
   }
   EXPECT_GT(rows, 100);
+}
+
+// With a folder, the report writes bode.csv and identification.yaml, then calls the plot hook once
+// on that folder (the files complete by then).
+TEST(GalvoIdentification, ReportWritesTheFolderThenCallsThePlotHook)
+{
+  const GalvoPlantParams truth;
+  IdentificationConfig config;
+  config.prbs.order = 14;
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "scanhead_test_identification";
+  std::filesystem::remove_all(dir);
+  int calls = 0;
+  const std::string yaml = identificationReport(truth, config, dir.string(), [&](const std::string& folder) {
+    ++calls;
+    EXPECT_EQ(std::filesystem::path(folder), dir);
+    EXPECT_GT(std::filesystem::file_size(dir / "bode.csv"), 0u);
+    EXPECT_GT(std::filesystem::file_size(dir / "identification.yaml"), 0u);
+  });
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(yaml, identificationReport(truth, config, ""));  // the folder changes nothing in the text
+  std::filesystem::remove_all(dir);
 }
 
 TEST(GalvoIdentification, InvalidConfigNamesTheField)

@@ -327,6 +327,35 @@ TEST(Km0Report, DefaultGalvoReportIsOkAndWritten)
   std::filesystem::remove_all(dir);
 }
 
+// The plot hook runs once the data is written (it may read km0_report.yaml), on the report's
+// folder, and the plots it made are listed in the final report; without a hook none are listed.
+TEST(Km0Report, PlotHookRunsOnTheWrittenFolderAndItsPlotsAreListed)
+{
+  const ServoConfig servo;
+  const Km0Config c = loadKm0Config(std::string(SCANHEAD_SOURCE_DIR) + "/config/km0.yaml");
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "scanhead_test_km0_hook";
+  std::filesystem::remove_all(dir);
+  int calls = 0;
+  const PlotHook hook = [&](const std::string& folder) {
+    ++calls;
+    EXPECT_EQ(std::filesystem::path(folder), dir);
+    for (const char* f : {"km0_report.yaml", "km0_signal.csv", "km0_steps.csv", "km0_ramps.csv"})
+      EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+    std::ofstream(dir / "km0_ramps.png") << "not a picture";
+  };
+  const YAML::Node y = YAML::Load(km0Report(servo, 1, 1e-5, c, dir.string(), hook));
+  EXPECT_EQ(calls, 1);
+  std::vector<std::string> files;
+  for (const YAML::Node& f : y["files"])
+    files.push_back(f.as<std::string>());
+  EXPECT_NE(std::find(files.begin(), files.end(), "km0_ramps.png"), files.end());
+  EXPECT_EQ(std::find(files.begin(), files.end(), "km0_signal.png"), files.end());  // not made
+  const YAML::Node plain = YAML::Load(km0Report(servo, 1, 1e-5, c, dir.string()));
+  for (const YAML::Node& f : plain["files"])
+    EXPECT_EQ(f.as<std::string>().find(".png"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Km0Config, YamlReadsValuesAndRejectsUnknownKeys)
 {
   const Km0Config c = km0ConfigFromYaml(

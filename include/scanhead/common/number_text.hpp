@@ -22,6 +22,8 @@ std::string fullPrecisionText(double value);
 /// \brief The shortest "%.<n>g" text (n = 1 … 17) that reads back as exactly \p value: 0.1 as "0.1",
 /// not "0.10000000000000001" (defect set files, names of random sets).
 std::string shortestText(double value);
+/// \brief \p value with 6 significant digits ("%.6g"): for reports read by people.
+std::string sixDigitText(double value);
 /// \brief \p value for YAML: full precision (fullPrecisionText), NaN as .nan, ±infinity as .inf / -.inf.
 std::string yamlNumber(double value);
 /// \brief \p text as a YAML double-quoted scalar (quotes and backslashes escaped).

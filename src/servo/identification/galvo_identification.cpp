@@ -1,19 +1,16 @@
 /// \file galvo_identification.cpp
 #include "scanhead/servo/identification/galvo_identification.hpp"
-#include "scanhead/common/text_file.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <sstream>
+#include <string>
 
 #include <Eigen/Dense>
 
-#include "scanhead/common/package_path.hpp"
 #include "scanhead/common/config_check.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/levenberg_marquardt.hpp"
+#include "scanhead/common/number_text.hpp"
 
 namespace scanhead
 {
@@ -23,85 +20,6 @@ constexpr double kPi = 3.14159265358979323846;
 using Complex = std::complex<double>;
 
 bool positiveFinite(double v) { return v > 0.0 && std::isfinite(v); }
-
-/// Levenberg–Marquardt (Marquardt's diagonal scaling) with a central-difference Jacobian.
-struct LmResult
-{
-  Eigen::VectorXd x;
-  double cost = 0.0;  ///< Σ r²
-  int iterations = 0;
-};
-
-template <typename Residuals>
-LmResult levenbergMarquardt(const Residuals& residuals, Eigen::VectorXd x, int max_iterations)
-{
-  const Eigen::Index n = x.size();
-  Eigen::VectorXd r = residuals(x);
-  double cost = r.squaredNorm();
-  double lambda = 1e-3;
-  int it = 0;
-  bool converged = false;
-  while (!converged && it < max_iterations)
-  {
-    ++it;
-    Eigen::MatrixXd jac(r.size(), n);
-    for (Eigen::Index j = 0; j < n; ++j)
-    {
-      const double h = 1e-6 * std::max(1.0, std::abs(x[j]));
-      Eigen::VectorXd xp = x, xm = x;
-      xp[j] += h;
-      xm[j] -= h;
-      jac.col(j) = (residuals(xp) - residuals(xm)) / (2.0 * h);
-    }
-    const Eigen::MatrixXd a = jac.transpose() * jac;
-    const Eigen::VectorXd g = jac.transpose() * r;
-    bool improved = false;
-    Eigen::VectorXd step;
-    while (lambda < 1e12)
-    {
-      Eigen::MatrixXd damped = a;
-      for (Eigen::Index j = 0; j < n; ++j)
-        damped(j, j) += lambda * std::max(a(j, j), 1e-30);
-      step = damped.ldlt().solve(-g);
-      const Eigen::VectorXd candidate = x + step;
-      const Eigen::VectorXd rc = residuals(candidate);
-      const double cc = rc.squaredNorm();
-      if (std::isfinite(cc) && cc < cost)
-      {
-        const double decrease = cost - cc;
-        x = candidate;
-        r = rc;
-        cost = cc;
-        lambda = std::max(lambda / 3.0, 1e-12);
-        improved = true;
-        converged = decrease <= 1e-12 * cost || step.norm() < 1e-10;
-        break;
-      }
-      lambda *= 4.0;
-    }
-    if (!improved)
-      break;
-  }
-  return {x, cost, it};
-}
-
-/// Exact zero-order-hold equivalent of G2(1 + τ1 s)/(1 + σ s + π s²) at z = e^{j2πfT}:
-/// G(z) = (1 − z⁻¹) Z{G(s)/s} = r0 + (1 − z⁻¹) Σ_j r_j / (1 − e^{p_j T} z⁻¹), with the partial
-/// fractions of G(s)/s: r0 = G2 at s = 0 and r_j at the poles p_j = −1/τ_j (j = 2, 3, distinct,
-/// possibly a complex pair), r_j = G2(1 + τ1 p_j)/(p_j π (p_j − p_other)).
-Complex currentPerVoltageZoh(const TransferForms& m, double f_hz, double period_s)
-{
-  Complex tau2 = m.tau2(), tau3 = m.tau3();
-  if (std::abs(tau2 - tau3) < 1e-7 * std::abs(tau2))
-    tau3 *= 1.0 - 1e-6;  // coincident poles: split by 1e-6 (limit of the partial fractions)
-  const Complex p2 = -1.0 / tau2, p3 = -1.0 / tau3;
-  const double pi = m.tau_product_s2;
-  const Complex r2 = m.g2_a_per_v * (1.0 + m.tau1_s * p2) / (p2 * pi * (p2 - p3));
-  const Complex r3 = m.g2_a_per_v * (1.0 + m.tau1_s * p3) / (p3 * pi * (p3 - p2));
-  const Complex zinv = std::polar(1.0, -2.0 * kPi * f_hz * period_s);
-  return m.g2_a_per_v + (1.0 - zinv) * (r2 / (1.0 - std::exp(p2 * period_s) * zinv) +
-                                        r3 / (1.0 - std::exp(p3 * period_s) * zinv));
-}
 
 double db(Complex v) { return 20.0 * std::log10(std::abs(v)); }
 double deg(double rad) { return rad * 180.0 / kPi; }
@@ -126,8 +44,8 @@ double median(std::vector<double> v)
 
 /// Fit of Ĝ over \p bins by the model \p model(params, f): LM on log parameters.
 template <typename Model>
-LmResult fitResponse(const FrequencyResponse& h, const std::vector<std::size_t>& bins, const Model& model,
-                     const Eigen::VectorXd& log_initial, double& rms_residual)
+LevenbergMarquardtResult fitResponse(const FrequencyResponse& h, const std::vector<std::size_t>& bins,
+                                     const Model& model, const Eigen::VectorXd& log_initial, double& rms_residual)
 {
   std::vector<double> weight(bins.size());
   for (std::size_t m = 0; m < bins.size(); ++m)
@@ -143,29 +61,13 @@ LmResult fitResponse(const FrequencyResponse& h, const std::vector<std::size_t>&
     }
     return r;
   };
-  LmResult fit = levenbergMarquardt(residuals, log_initial, 200);
+  LevenbergMarquardtResult fit = levenbergMarquardt(residuals, log_initial, 200);
   double sum = 0.0;
   for (std::size_t k : bins)
     sum += std::norm(model(fit.x, h.frequency_hz[k]) / h.response[k] - 1.0);
   rms_residual = bins.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(bins.size()));
   return fit;
 }
-
-std::string num(double v)
-{
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", v);
-  return buffer;
-}
-
-/// A root as YAML: a number if real, else [re, im] (a complex-conjugate pole pair of i/U).
-std::string complexText(Complex v)
-{
-  if (std::abs(v.imag()) <= 1e-12 * std::abs(v.real()))
-    return num(v.real());
-  return "[" + num(v.real()) + ", " + num(v.imag()) + "]";
-}
-
 }  // namespace
 
 void IdentificationConfig::validate() const
@@ -182,96 +84,13 @@ void IdentificationConfig::validate() const
   if (!std::isfinite(ramp_rad_per_s))
     failSetting("identification.ramp_rad_per_s", "finite", ramp_rad_per_s);
   const double nyquist = 0.5 / sample_period_s;
+  const std::string band = "in (0, Nyquist " + sixDigitText(nyquist) + " Hz]";
   if (!positiveFinite(theta_fit_max_hz) || theta_fit_max_hz > nyquist)
-    failSetting("identification.theta_fit_max_hz", "in (0, Nyquist " + num(nyquist) + " Hz]", theta_fit_max_hz);
+    failSetting("identification.theta_fit_max_hz", band, theta_fit_max_hz);
   if (!positiveFinite(current_fit_max_hz) || current_fit_max_hz > nyquist)
-    failSetting("identification.current_fit_max_hz", "in (0, Nyquist " + num(nyquist) + " Hz]", current_fit_max_hz);
+    failSetting("identification.current_fit_max_hz", band, current_fit_max_hz);
   if (!positiveFinite(bode_check_max_hz))
     failSetting("identification.bode_check_max_hz", "> 0", bode_check_max_hz);
-}
-
-Complex TransferForms::tau2() const
-{
-  // Roots of τ² − στ + π = 0; the larger real part (or +imaginary part for a complex pair).
-  const Complex disc = std::sqrt(Complex(tau_sum_s * tau_sum_s - 4.0 * tau_product_s2, 0.0));
-  return 0.5 * (tau_sum_s + disc);
-}
-
-Complex TransferForms::tau3() const
-{
-  const Complex t2 = tau2();
-  return tau_product_s2 / t2;  // the partner root without cancellation
-}
-
-TransferForms transferFormsOf(const GalvoPlantParams& p)
-{
-  const double r = p.resistance_ohm, l = p.inductance_h, kc = p.torque_constant_nm_per_a;
-  const double b = p.viscous_nms, j = p.inertia_kgm2;
-  TransferForms f;
-  f.g1_rad_per_as = kc / b;
-  f.tau1_s = j / b;
-  f.g2_a_per_v = b / (b * r + kc * kc);
-  f.tau_sum_s = f.g2_a_per_v * (l + r * f.tau1_s);
-  f.tau_product_s2 = f.g2_a_per_v * l * f.tau1_s;
-  return f;
-}
-
-PhysicalParams recoverPhysicalParams(const TransferForms& forms)
-{
-  // THESIS eq. (2.13) as written, in complex arithmetic (see the header).
-  const Complex r1 = 1.0 / forms.tau2(), r2 = 1.0 / forms.tau3();
-  const double a = forms.tau1_s;
-  const Complex c = 1.0 / (forms.g2_a_per_v * a * r1 * r2);
-  const Complex b = (a * c * (r1 + r2) - c) / a;
-  const Complex d = ((b * a + c) * (b * a + c) - 4.0 * a * c * b - (a * c) * (a * c) * (r1 - r2) * (r1 - r2)) /
-                    (4.0 * a * c);
-  PhysicalParams out;
-  out.inductance_h = c.real();
-  out.resistance_ohm = b.real();
-  out.torque_constant_nm_per_a = d.real() / forms.g1_rad_per_as;
-  out.viscous_nms = out.torque_constant_nm_per_a / forms.g1_rad_per_as;
-  out.inertia_kgm2 = a * out.viscous_nms;
-  for (double v : {out.inductance_h, out.resistance_ohm, out.torque_constant_nm_per_a, out.viscous_nms,
-                   out.inertia_kgm2})
-    if (!positiveFinite(v))
-    {
-      std::ostringstream msg;
-      msg << "recoverPhysicalParams: non-positive parameter from G1 " << forms.g1_rad_per_as << ", tau1 "
-          << forms.tau1_s << ", G2 " << forms.g2_a_per_v << ", tau2+tau3 " << forms.tau_sum_s << ", tau2*tau3 "
-          << forms.tau_product_s2 << " (R " << out.resistance_ohm << ", L " << out.inductance_h << ", Kc "
-          << out.torque_constant_nm_per_a << ")";
-      throw NumericalError(msg.str());
-    }
-  return out;
-}
-
-Complex thetaPerCurrent(const TransferForms& f, double f_hz)
-{
-  const Complex s(0.0, 2.0 * kPi * f_hz);
-  return f.g1_rad_per_as / (s * (1.0 + f.tau1_s * s));
-}
-
-Complex currentPerVoltage(const TransferForms& f, double f_hz)
-{
-  const Complex s(0.0, 2.0 * kPi * f_hz);
-  return f.g2_a_per_v * (1.0 + f.tau1_s * s) / (1.0 + f.tau_sum_s * s + f.tau_product_s2 * s * s);
-}
-
-Complex trueThetaPerCurrent(const GalvoPlantParams& p, double f_hz)
-{
-  const Complex s(0.0, 2.0 * kPi * f_hz);
-  const double wr = 2.0 * kPi * p.mode_frequency_hz;
-  return p.torque_constant_nm_per_a / (s * (p.inertia_kgm2 * s + p.viscous_nms)) +
-         p.mode_gain / (s * s + 2.0 * p.mode_damping * wr * s + wr * wr);
-}
-
-Complex trueCurrentPerVoltage(const GalvoPlantParams& p, double f_hz)
-{
-  const Complex s(0.0, 2.0 * kPi * f_hz);
-  const double wr = 2.0 * kPi * p.mode_frequency_hz;
-  const Complex speed_per_current = p.torque_constant_nm_per_a / (p.inertia_kgm2 * s + p.viscous_nms) +
-                                    p.mode_gain * s / (s * s + 2.0 * p.mode_damping * wr * s + wr * wr);
-  return 1.0 / (p.resistance_ohm + p.inductance_h * s + p.torque_constant_nm_per_a * speed_per_current);
 }
 
 IdentificationResult identifyGalvo(const GalvoPlantParams& truth, const IdentificationConfig& config)
@@ -382,7 +201,7 @@ IdentificationResult identifyGalvo(const GalvoPlantParams& truth, const Identifi
     m.tau1_s = std::exp(x[1]);
     return thetaPerCurrent(m, f);
   };
-  const LmResult tfit = fitResponse(hti, tbins, theta_model, x0, result.theta_fit_rms_residual);
+  const LevenbergMarquardtResult tfit = fitResponse(hti, tbins, theta_model, x0, result.theta_fit_rms_residual);
   result.fitted.g1_rad_per_as = std::exp(tfit.x[0]);
   result.fitted.tau1_s = std::exp(tfit.x[1]);
   result.theta_fit_iterations = tfit.iterations;
@@ -419,7 +238,7 @@ IdentificationResult identifyGalvo(const GalvoPlantParams& truth, const Identifi
     m.tau_product_s2 = std::exp(x[2]);
     return currentPerVoltageZoh(m, f, t_s);
   };
-  const LmResult ifit = fitResponse(hiu, ibins, current_model, y0, result.current_fit_rms_residual);
+  const LevenbergMarquardtResult ifit = fitResponse(hiu, ibins, current_model, y0, result.current_fit_rms_residual);
   result.fitted.g2_a_per_v = std::exp(ifit.x[0]);
   result.fitted.tau_sum_s = std::exp(ifit.x[1]);
   result.fitted.tau_product_s2 = std::exp(ifit.x[2]);
@@ -446,129 +265,5 @@ IdentificationResult identifyGalvo(const GalvoPlantParams& truth, const Identifi
     result.current_bode_max_error_deg = std::max(result.current_bode_max_error_deg, std::abs(deg(std::arg(ei))));
   }
   return result;
-}
-
-std::string bodeCsv(const IdentificationResult& r, const GalvoPlantParams& truth)
-{
-  std::ostringstream csv;
-  csv << "frequency_hz,theta_meas_db,theta_meas_deg,theta_fit_db,theta_fit_deg,theta_true_db,theta_true_deg,"
-         "theta_coherence,current_meas_db,current_meas_deg,current_fit_db,current_fit_deg,current_true_db,"
-         "current_true_deg,current_coherence\n";
-  const FrequencyResponse& t = r.theta_per_current;
-  const FrequencyResponse& c = r.current_per_voltage;
-  double last_f = 0.0;
-  for (std::size_t k = 1; k < t.frequency_hz.size(); ++k)
-  {
-    const double f = t.frequency_hz[k];
-    if (last_f > 0.0 && f < last_f * std::pow(10.0, 1.0 / 200.0))
-      continue;  // at most 200 rows per decade
-    last_f = f;
-    const Complex gt = thetaPerCurrent(r.fitted, f), tt = trueThetaPerCurrent(truth, f);
-    const Complex gc = currentPerVoltage(r.fitted, f), tc = trueCurrentPerVoltage(truth, f);
-    csv << num(f) << ',' << num(db(t.response[k])) << ',' << num(deg(std::arg(t.response[k]))) << ','
-        << num(db(gt)) << ',' << num(deg(std::arg(gt))) << ',' << num(db(tt)) << ',' << num(deg(std::arg(tt)))
-        << ',' << num(t.coherence[k]) << ',' << num(db(c.response[k])) << ','
-        << num(deg(std::arg(c.response[k]))) << ',' << num(db(gc)) << ',' << num(deg(std::arg(gc))) << ','
-        << num(db(tc)) << ',' << num(deg(std::arg(tc))) << ',' << num(c.coherence[k]) << '\n';
-  }
-  return csv.str();
-}
-
-std::string identificationReport(const GalvoPlantParams& truth, const IdentificationConfig& config,
-                                 const std::string& out_dir)
-{
-  const IdentificationResult r = identifyGalvo(truth, config);
-  const auto rel = [](double identified, double true_value) { return num(identified / true_value - 1.0); };
-  std::ostringstream y;
-  y << "# galvo identification, SPEC §3 / THESIS §2.2.1.2 (PRBS, H1 Welch, fit, eq. 2.13)\n"
-    << "experiment:\n"
-    << "  sample_period_s: " << num(config.sample_period_s) << "\n"
-    << "  prbs_order: " << config.prbs.order << "\n"
-    << "  prbs_clock_divider: " << config.prbs.clock_divider << "\n"
-    << "  prbs_amplitude_v: " << num(config.prbs.amplitude) << "\n"
-    << "  prbs_period_s: " << num(static_cast<double>(Prbs(config.prbs).periodSamples()) * config.sample_period_s)
-    << "\n"
-    << "  settle_periods: " << r.settle_periods << "\n"
-    << "  averaged_periods: " << config.averaged_periods << "\n"
-    << "  window: " << (config.window == SpectralWindow::Hann ? "hann" : "rectangular") << "\n"
-    << "  position_loop_hz: " << num(config.position_loop_hz) << "\n"
-    << "  position_gain_v_per_rad: " << num(r.position_gain_v_per_rad) << "\n"
-    << "  ramp_rad_per_s: " << num(config.ramp_rad_per_s) << "\n"
-    << "  friction: " << (config.zero_friction ? "zero  # Tp = Tc = 0 during the experiment" : "as_configured")
-    << "\n"
-    << "  samples: " << r.samples << "\n"
-    << "  angle_range_rad: [" << num(r.angle_min_rad) << ", " << num(r.angle_max_rad) << "]\n"
-    << "  velocity_sign_changes: " << r.velocity_sign_changes << "\n"
-    << "  saturated_samples: " << r.saturated_samples << "\n"
-    << "  frequency_resolution_hz: " << num(r.theta_per_current.frequency_hz[1]) << "\n"
-    << "fit:\n"
-    << "  G1_rad_per_as: " << num(r.fitted.g1_rad_per_as) << "  # true " << num(r.truth_forms.g1_rad_per_as) << "\n"
-    << "  tau1_s: " << num(r.fitted.tau1_s) << "  # true " << num(r.truth_forms.tau1_s) << "\n"
-    << "  G2_a_per_v: " << num(r.fitted.g2_a_per_v) << "  # true " << num(r.truth_forms.g2_a_per_v) << "\n"
-    << "  tau2_plus_tau3_s: " << num(r.fitted.tau_sum_s) << "  # true " << num(r.truth_forms.tau_sum_s) << "\n"
-    << "  tau2_times_tau3_s2: " << num(r.fitted.tau_product_s2) << "  # true " << num(r.truth_forms.tau_product_s2)
-    << "\n"
-    << "  tau2_s: " << complexText(r.fitted.tau2()) << "  # [re, im] if a complex pair; true "
-    << complexText(r.truth_forms.tau2()) << "\n"
-    << "  tau3_s: " << complexText(r.fitted.tau3()) << "  # true " << complexText(r.truth_forms.tau3()) << "\n"
-    << "  theta_current_band_hz: [" << num(r.theta_per_current.frequency_hz[1]) << ", "
-    << num(config.theta_fit_max_hz) << "]\n"
-    << "  current_voltage_band_hz: [" << num(r.current_per_voltage.frequency_hz[1]) << ", "
-    << num(config.current_fit_max_hz) << "]\n"
-    << "  theta_current_rms_residual: " << num(r.theta_fit_rms_residual) << "  # RMS |G/Ĝ − 1|\n"
-    << "  current_voltage_rms_residual: " << num(r.current_fit_rms_residual) << "\n"
-    << "  theta_current_iterations: " << r.theta_fit_iterations << "\n"
-    << "  current_voltage_iterations: " << r.current_fit_iterations << "\n";
-  const auto block = [&](const char* name, const PhysicalParams& p) {
-    y << name << ":\n"
-      << "  R_ohm: " << num(p.resistance_ohm) << "\n"
-      << "  L_h: " << num(p.inductance_h) << "\n"
-      << "  Kc_nm_per_a: " << num(p.torque_constant_nm_per_a) << "\n"
-      << "  B_nms: " << num(p.viscous_nms) << "\n"
-      << "  Jeq_kgm2: " << num(p.inertia_kgm2) << "\n";
-  };
-  block("true", r.truth);
-  block("identified", r.identified);
-  y << "relative_error:\n"
-    << "  R_ohm: " << rel(r.identified.resistance_ohm, r.truth.resistance_ohm) << "\n"
-    << "  L_h: " << rel(r.identified.inductance_h, r.truth.inductance_h) << "\n"
-    << "  Kc_nm_per_a: " << rel(r.identified.torque_constant_nm_per_a, r.truth.torque_constant_nm_per_a) << "\n"
-    << "  B_nms: " << rel(r.identified.viscous_nms, r.truth.viscous_nms) << "\n"
-    << "  Jeq_kgm2: " << rel(r.identified.inertia_kgm2, r.truth.inertia_kgm2) << "\n"
-    << "bode_check:  # fitted forms vs the true plant (theta/i with its flexible mode)\n"
-    << "  max_hz: " << num(config.bode_check_max_hz) << "\n"
-    << "  theta_current_max_error_db: " << num(r.theta_bode_max_error_db) << "\n"
-    << "  theta_current_max_error_deg: " << num(r.theta_bode_max_error_deg) << "\n"
-    << "  current_voltage_max_error_db: " << num(r.current_bode_max_error_db) << "\n"
-    << "  current_voltage_max_error_deg: " << num(r.current_bode_max_error_deg) << "\n";
-  y << "warnings:";
-  std::string warnings;
-  if (r.theta_per_current.frequency_hz[1] > 1.0 / (2.0 * kPi * r.fitted.tau1_s))
-    warnings += "\n  - lowest line above the mechanical corner 1/(2 pi tau1): B and Jeq poorly determined; "
-                "raise prbs.order or prbs.clock_divider";
-  if (r.velocity_sign_changes > 0)
-    warnings += "\n  - the rotor speed changed sign " + std::to_string(r.velocity_sign_changes) +
-                " times: Coulomb friction made the plant nonlinear (raise ramp_rad_per_s or lower the amplitude)";
-  if (r.saturated_samples > 0)
-    warnings += "\n  - " + std::to_string(r.saturated_samples) + " samples beyond the supply voltage (saturated)";
-  y << (warnings.empty() ? " []\n" : warnings + "\n");
-  const std::string yaml = y.str();
-
-  if (!out_dir.empty())
-  {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    fs::create_directories(out_dir, ec);
-    if (ec)
-      throw InputError(out_dir + ": cannot create (" + ec.message() + ")");
-    writeTextFile(fs::path(out_dir) / "bode.csv", bodeCsv(r, truth));
-    writeTextFile(fs::path(out_dir) / "identification.yaml", yaml);
-    const std::string script = resolvePackagePath("scripts/plot_bode.py");
-    const std::string command = "/usr/bin/python3 '" + script + "' '" + out_dir + "' 2>&1";
-    if (std::system(command.c_str()) != 0)
-      std::fprintf(stderr, "scanhead: Bode plots skipped (%s failed; is python3-matplotlib installed?)\n",
-                   script.c_str());
-  }
-  return yaml;
 }
 }  // namespace scanhead

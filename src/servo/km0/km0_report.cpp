@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -377,7 +376,7 @@ void writeKm0Csv(const Km0Signal& signal, const Km0Response& response, const Km0
 }
 
 std::string km0Report(const ServoConfig& servo, int axis, double period_s, const Km0Config& config,
-                      const std::string& out_dir, const std::string& plot_script)
+                      const std::string& out_dir, const PlotHook& plots)
 {
   if (axis != 0 && axis != 1)
     throw ConfigError("km0 axis must be 0 (x) or 1 (y) (got " + std::to_string(axis) + ")");
@@ -394,12 +393,9 @@ std::string km0Report(const ServoConfig& servo, int axis, double period_s, const
   const fs::path dir(out_dir);
   // The plots read km0_report.yaml: write it first, then again with the list of files.
   writeTextFile(dir / "km0_report.yaml", km0ReportYaml(results, config, info, period_s, files));
-  if (!plot_script.empty())
+  if (plots)
   {
-    const std::string command = "/usr/bin/python3 '" + plot_script + "' '" + dir.string() + "' 2>&1";
-    if (std::system(command.c_str()) != 0)
-      std::fprintf(stderr, "scanhead: KM0 plots skipped (%s failed; is python3-matplotlib installed?)\n",
-                   plot_script.c_str());
+    plots(dir.string());
     for (const char* png : {"km0_signal.png", "km0_ramps.png", "km0_steps.png", "km0_friction.png",
                             "km0_following_error.png"})
     {

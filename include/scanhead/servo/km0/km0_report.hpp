@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "scanhead/common/plot_hook.hpp"
 #include "scanhead/servo/km0/km0_config.hpp"
 #include "scanhead/servo/km0/km0_protocol.hpp"
 #include "scanhead/servo/servo_config.hpp"
@@ -56,13 +57,15 @@ void writeKm0Csv(const Km0Signal& signal, const Km0Response& response, const Km0
                  const Km0Config& config, const Km0AxisInfo& info, const std::string& out_dir);
 
 /// \brief Runs the whole protocol on \p axis of \p servo and writes the report into \p out_dir:
-/// km0_report.yaml, the CSV files above, and (if \p plot_script is not empty, run with
-/// /usr/bin/python3) the plots of scripts/plot_km0.py: km0_signal.png, km0_ramps.png,
-/// km0_steps.png, km0_friction.png, km0_following_error.png.
+/// km0_report.yaml and the CSV files above; then, if \p plots is set, calls it on out_dir (the
+/// tools pass the hook that runs scripts/plot_km0.py: km0_signal.png, km0_ramps.png,
+/// km0_steps.png, km0_friction.png, km0_following_error.png) and lists the plots it made in
+/// km0_report.yaml.
 /// The axis is made by makeAxisModel(servo, axis, period_s) (the model servo.model names).
 /// \param[in] axis  0 = x (galvo_x), 1 = y (galvo_y)
+/// \param[in] plots  "data written, make the plots now" (it may read km0_report.yaml); empty: no plots
 /// \return the YAML report (the text of km0_report.yaml)
 /// \throws ConfigError on invalid settings, InputError if out_dir cannot be written
 std::string km0Report(const ServoConfig& servo, int axis, double period_s, const Km0Config& config,
-                      const std::string& out_dir, const std::string& plot_script = "");
+                      const std::string& out_dir, const PlotHook& plots = {});
 }  // namespace scanhead
