@@ -5,7 +5,7 @@ namespace scanhead
 BatchChain::BatchChain(const ChainConfig& config, const OpticalModel& optics)
   : config_(config)
   , nc_(config, optics)
-  , servo_(config.servo, config.nc.period_s)
+  , servo_(config.servo)
   , optics_(optics)
   , energy_(config)
 {
@@ -15,8 +15,8 @@ RunMetrics BatchChain::run(const Job& job, const ProgressCallback& progress)
 {
   nc_.reset(job);
   const PlannedJob planned{job, nc_.plan()};
-  servo_.reset(planned);
-  optics_.reset(planned);
+  servo_.reset({nc_.plan().period_s});
+  optics_.reset({});
   energy_.reset(planned);
   while (!nc_.done())
   {

@@ -19,11 +19,22 @@ NcStage::NcStage(const ChainConfig& config, const OpticalModel& optics)
 {
 }
 
+void ServoStage::reset(const ServoJob& job)
+{
+  servo_ = std::make_unique<GalvoServo>(config_, job.period_s);
+  at_rest_pending_ = true;
+}
+
 JointChunk ServoStage::process(const SetpointChunk& setpoint)
 {
-  if (setpoint.first_index == 0 && !setpoint.samples.empty())
-    servo_.reset(setpoint.samples.front().position);  // at rest where the job starts
-  return servo_.process(setpoint);
+  if (!servo_)
+    throw std::logic_error("ServoStage::process() before reset()");
+  if (at_rest_pending_ && !setpoint.samples.empty())
+  {
+    servo_->reset(setpoint.samples.front().position);  // at rest where the job starts
+    at_rest_pending_ = false;
+  }
+  return servo_->process(setpoint);
 }
 
 std::uint64_t EnergySinkStage::process(const SpotChunk& chunk)

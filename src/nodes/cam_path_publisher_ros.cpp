@@ -2,8 +2,7 @@
 
 #include "ros_config.hpp"
 #include "ros_conversions.hpp"
-#include "scanhead/job/job_files.hpp"
-#include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/chain/chain_stages.hpp"
 
 namespace scanhead
 {
@@ -26,8 +25,9 @@ bool CamPathPublisherNode::publishJob(const std::string& job_argument)
 {
   try
   {
-    Job job = loadJob(job_argument, config_.cam);
-    validateScanJob(job, config_.optics.field_half_width_m);
+    CamStage cam(config_.cam, config_.optics.field_half_width_m);
+    cam.reset(job_argument);
+    const Job job = cam.finish();
     const std::uint32_t id = next_job_id_++;
     job_pub_.publish(toMsg(job, id));
     ROS_INFO("cam: job %u '%s' (%zu polylines) from %s", id, job.name.c_str(), job.polylines.size(),

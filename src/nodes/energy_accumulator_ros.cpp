@@ -13,13 +13,8 @@
 
 namespace scanhead
 {
-namespace
-{
-constexpr std::size_t kMaxWaitingChunks = 4096;
-}  // namespace
-
 EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
-  : config_(chainConfigFromParams(nh)), settings_yaml_(chainConfigToYaml(config_)), nh_(nh)
+  : config_(chainConfigFromParams(nh)), settings_yaml_(chainConfigToYaml(config_)), stage_(config_), nh_(nh)
 {
   std::string base_dir;
   private_nh.param("out", out_, std::string());
@@ -41,7 +36,22 @@ EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandl
       "energy/path_markers", 1, [this](const ros::SingleSubscriberPublisher&) { publishViews(); }, {}, {}, true);
   job_sub_ = nh.subscribe("cam/job", 10, &EnergyAccumulatorNode::onJob, this);
   plan_sub_ = nh.subscribe("nc/plan", 10, &EnergyAccumulatorNode::onPlan, this);
-  spot_sub_ = nh.subscribe("optics/spot", 0, &EnergyAccumulatorNode::onSpot, this, ros::TransportHints().tcpNoDelay());
+  StageNodeAdapter<EnergySinkStage, SpotStream>::Binding binding;
+  // A job starts once its cam/job and the NC's plan of it are both here (its chunks wait till then).
+  binding.job = [this](const ChunkHeader& header) -> std::optional<PlannedJob> {
+    const auto job = jobs_.find(header.job_id);
+    const auto plan = plans_.find(header.job_id);
+    if (job == jobs_.end() || plan == plans_.end())
+      return std::nullopt;
+    return PlannedJob{job->second, plan->second};
+  };
+  binding.process = [](EnergySinkStage& stage, const std::tuple<std::shared_ptr<const SpotStream>>& m) {
+    return stage.process(fromMsg(*std::get<0>(m)));  // the stage counts gaps and overlaps (dropped_samples)
+  };
+  binding.publish = [this](std::uint64_t, const ChunkHeader& header) { acknowledge(header.total_samples); };
+  binding.finished = [this](std::uint32_t) { finishJob(); };
+  adapter_ = std::make_unique<StageNodeAdapter<EnergySinkStage, SpotStream>>(
+      nh, stage_, std::array<std::string, 1>{"optics/spot"}, std::move(binding), "energy");
 }
 
 void EnergyAccumulatorNode::onJob(const ScanJob& msg)
@@ -49,7 +59,7 @@ void EnergyAccumulatorNode::onJob(const ScanJob& msg)
   jobs_[msg.job_id] = fromMsg(msg);
   while (jobs_.size() > 8)
     jobs_.erase(jobs_.begin());
-  retryWaiting();
+  adapter_->retry();
 }
 
 void EnergyAccumulatorNode::onPlan(const NcJobPlan& msg)
@@ -77,89 +87,34 @@ void EnergyAccumulatorNode::onPlan(const NcJobPlan& msg)
   {
     ROS_ERROR("energy: nc/plan of job %u rejected: %s", msg.job_id, e.what());
   }
-  retryWaiting();
+  adapter_->retry();
 }
 
-void EnergyAccumulatorNode::retryWaiting()
+void EnergyAccumulatorNode::acknowledge(std::uint64_t total_samples)
 {
-  std::deque<SpotStream::ConstPtr> waiting;
-  waiting.swap(waiting_);
-  for (const auto& chunk : waiting)
-    onSpot(chunk);
-}
-
-void EnergyAccumulatorNode::onSpot(const SpotStream::ConstPtr& msg)
-{
-  if (jobs_.count(msg->chunk.job_id) == 0 || plans_.count(msg->chunk.job_id) == 0)
-  {
-    waiting_.push_back(msg);  // the latched job or plan has not arrived yet
-    if (waiting_.size() > kMaxWaitingChunks)
-    {
-      ROS_ERROR("energy: no cam/job or nc/plan for job %u: chunk at sample %llu dropped", waiting_.front()->chunk.job_id,
-                static_cast<unsigned long long>(waiting_.front()->chunk.first_index));
-      waiting_.pop_front();
-    }
-    return;
-  }
-  try
-  {
-    process(*msg);
-  }
-  catch (const std::exception& e)
-  {
-    ROS_ERROR("energy: job %u chunk at sample %llu: %s", msg->chunk.job_id,
-              static_cast<unsigned long long>(msg->chunk.first_index), e.what());
-  }
-}
-
-void EnergyAccumulatorNode::process(const SpotStream& msg)
-{
-  if (msg.chunk.job_id != job_id_ || !stage_)
-  {
-    if (stage_)
-      ROS_WARN("energy: job %u interrupted by job %u after %llu samples", job_id_, msg.chunk.job_id,
-               static_cast<unsigned long long>(sequence_.next()));
-    job_id_ = msg.chunk.job_id;
-    total_samples_ = msg.chunk.total_samples;
-    // The NC's plan of this job: corner times, laser windows, delays.
-    stage_ = std::make_unique<EnergyStage>(config_, jobs_.at(job_id_), plans_.at(job_id_));
-    sequence_.reset();
-    if (msg.chunk.first_index != 0)
-      ROS_ERROR("energy: job %u starts at sample %llu: the first samples were lost upstream (a stage that "
-                "connected late?); they are counted as dropped",
-                job_id_, static_cast<unsigned long long>(msg.chunk.first_index));
-  }
-  const SpotChunk chunk = fromMsg(msg);
-  stage_->process(chunk);  // the stage counts gaps and overlaps itself (dropped_samples)
-  const bool started = sequence_.started();
-  const ChunkAdmission admission = sequence_.admit(chunk.first_index, chunk.samples.size());
-  if (admission.broken(started) || admission.skip > 0)
-    ROS_WARN("energy: job %u: chunk at sample %llu: %llu samples missing before it, %zu already seen "
-             "(counted in dropped_samples)", job_id_, static_cast<unsigned long long>(chunk.first_index),
-             static_cast<unsigned long long>(admission.missing), admission.skip);
-  const std::uint64_t next_index = sequence_.next();
+  const std::uint32_t job_id = adapter_->jobId();
+  const std::uint64_t next_index = adapter_->sequence().next();
   ChunkAck ack;
-  ack.job_id = job_id_;
+  ack.job_id = job_id;
   ack.next_index = next_index;
   ack_pub_.publish(ack);
-  if (total_samples_ > 100000)  // progress on jobs longer than a second of machine time
-    ROS_INFO_THROTTLE(2.0, "energy: job %u at %.0f %% (%llu of %llu samples)", job_id_,
-                    100.0 * static_cast<double>(next_index) / static_cast<double>(std::max<std::uint64_t>(1, total_samples_)),
-                    static_cast<unsigned long long>(next_index), static_cast<unsigned long long>(total_samples_));
-  if (next_index >= total_samples_)
-    finishJob();
+  if (total_samples > 100000)  // progress on jobs longer than a second of machine time
+    ROS_INFO_THROTTLE(2.0, "energy: job %u at %.0f %% (%llu of %llu samples)", job_id,
+                      100.0 * static_cast<double>(next_index) / static_cast<double>(total_samples),
+                      static_cast<unsigned long long>(next_index), static_cast<unsigned long long>(total_samples));
 }
 
 void EnergyAccumulatorNode::finishJob()
 {
-  const RunMetrics metrics = stage_->finish();
-  ROS_INFO_STREAM("energy: job " << job_id_ << " done\n" << metricsTable(metrics));
+  const std::uint32_t job_id = adapter_->jobId();
+  const RunMetrics metrics = stage_.finish();
+  ROS_INFO_STREAM("energy: job " << job_id << " done\n" << metricsTable(metrics));
   publishResults(metrics);
   if (!out_.empty())
   {
     try
     {
-      writeResultsFolder(out_, metrics, *stage_, config_, jobs_.at(job_id_), plotFinisher());
+      writeResultsFolder(out_, metrics, stage_.stage(), config_, jobs_.at(job_id), plotFinisher());
       ROS_INFO("energy: results written to %s/", out_.c_str());
     }
     catch (const std::exception& e)
@@ -168,8 +123,8 @@ void EnergyAccumulatorNode::finishJob()
       failed_ = true;
     }
   }
-  last_stage_ = std::move(stage_);
-  last_job_ = jobs_.at(job_id_);
+  last_stage_ = stage_.release();
+  last_job_ = jobs_.at(job_id);
   views_published_ = false;
   publishViews();
   if (exit_when_done_)  // after a delay that lets a recorder write the last chunks
@@ -181,7 +136,7 @@ void EnergyAccumulatorNode::publishResults(const RunMetrics& metrics)
 {
   JobMetrics msg;
   msg.header.stamp = ros::Time::now();
-  msg.job_id = job_id_;
+  msg.job_id = adapter_->jobId();
   msg.job_name = metrics.job_name;
   msg.samples = metrics.samples;
   msg.dropped_samples = metrics.dropped_samples;

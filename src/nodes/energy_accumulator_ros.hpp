@@ -9,12 +9,12 @@
 #include <scanhead/ScanJob.h>
 #include <scanhead/SpotStream.h>
 
-#include <deque>
 #include <map>
 #include <memory>
 
+#include "ros_stage_node.hpp"
 #include "scanhead/chain/chain_config.hpp"
-#include "scanhead/common/chunk_sequencer.hpp"
+#include "scanhead/chain/chain_stages.hpp"
 #include "scanhead/chain/energy_stage.hpp"
 
 namespace scanhead
@@ -30,10 +30,8 @@ public:
 private:
   void onJob(const ScanJob& msg);
   void onPlan(const NcJobPlan& msg);
-  /// \brief Feeds the chunks that came before their job or plan, now that both may be here.
-  void retryWaiting();
-  void onSpot(const SpotStream::ConstPtr& msg);
-  void process(const SpotStream& msg);
+  /// \brief Acknowledges the spot stream up to where it got, with progress on long jobs.
+  void acknowledge(std::uint64_t total_samples);
   void finishJob();
   void publishResults(const RunMetrics& metrics);
   /// \brief Energy image, grid and path markers of the last finished job, if anyone subscribes.
@@ -43,21 +41,18 @@ private:
   std::string settings_yaml_;  ///< this node's settings, compared with the NC's
   std::map<std::uint32_t, Job> jobs_;  ///< recent jobs by id
   std::map<std::uint32_t, NcPlan> plans_;  ///< the NC's plans of recent jobs, by id
-  std::deque<SpotStream::ConstPtr> waiting_;  ///< chunks that came before their job or plan
-  std::unique_ptr<EnergyStage> stage_;
+  EnergySinkStage stage_;
+  std::unique_ptr<StageNodeAdapter<EnergySinkStage, SpotStream>> adapter_;  ///< optics/spot in
   std::unique_ptr<EnergyStage> last_stage_;  ///< the last finished job, for the views
   Job last_job_;
   bool views_published_ = false;
-  std::uint32_t job_id_ = 0;
-  std::uint64_t total_samples_ = 0;
-  ChunkSequencer sequence_;  ///< how far the spot stream got (the ack), its gaps and overlaps
   std::string out_;
   bool exit_when_done_ = false;
   double shutdown_delay_s_ = 0.0;
   ros::NodeHandle nh_;
   ros::WallTimer shutdown_timer_;
   bool failed_ = false;
-  ros::Subscriber job_sub_, plan_sub_, spot_sub_;
+  ros::Subscriber job_sub_, plan_sub_;
   ros::Publisher ack_pub_, metrics_pub_, image_pub_, grid_pub_, markers_pub_;
 };
 }  // namespace scanhead

@@ -10,8 +10,8 @@
 #include <memory>
 
 #include "ros_chunk_outlet.hpp"
-#include "scanhead/common/chunk_sequencer.hpp"
-#include "scanhead/servo/galvo_servo.hpp"
+#include "ros_stage_node.hpp"
+#include "scanhead/chain/chain_stages.hpp"
 
 namespace scanhead
 {
@@ -23,19 +23,15 @@ public:
   bool failed() const { return false; }
 
 private:
-  void onSetpoint(const NcSetpoint& msg);
   void onTimer(const ros::TimerEvent&);
   void publishDisplay(const JointSample& sample);
 
-  double period_s_;
-  ServoConfig servo_config_;
-  std::unique_ptr<GalvoServo> servo_;
+  double period_s_;  ///< nc.period_s: a stream at another period is warned about
+  ServoStage stage_;
   ChunkOutlet<JointStreamChunk> joints_out_;
+  std::unique_ptr<StageNodeAdapter<ServoStage, NcSetpoint>> adapter_;
   ros::Publisher display_pub_;
-  ros::Subscriber setpoint_sub_;
   ros::Timer timer_;
-  std::uint32_t job_id_ = 0;
-  ChunkSequencer sequence_;  ///< gaps and reordering of the setpoint stream
   double display_period_s_ = 1.0 / 30.0;
   ros::WallTime last_display_;
   JointSample last_display_sample_;  ///< at rest at 0 before the first job

@@ -29,13 +29,13 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
   {
     const Job job = fromMsg(msg);
     validateScanJob(job, config_.optics.field_half_width_m);
-    auto nc = std::make_unique<NcInterpolator>(config_.nc, resolveRecipe(config_.recipe), *optics_, &config_.servo);
-    nc->start(job);
+    auto nc = std::make_unique<NcStage>(config_, *optics_);
+    nc->reset(job);
     nc_ = std::move(nc);
     plan_pub_.publish(toMsg(nc_->plan(), msg.job_id, settings_yaml_));  // before any chunk of the job
     window_.start(msg.job_id, config_.stream.window_chunks * config_.stream.chunk_samples);
     ROS_INFO("nc: job %u '%s': %llu samples (%.3f ms)", msg.job_id, job.name.c_str(),
-             static_cast<unsigned long long>(nc_->totalSamples()), 1e3 * nc_->totalSamples() * config_.nc.period_s);
+             static_cast<unsigned long long>(nc_->plan().total_samples), 1e3 * nc_->plan().total_samples * config_.nc.period_s);
     pump();
   }
   catch (const std::exception& e)
@@ -65,14 +65,14 @@ void NcInterpolatorNode::pump()
   {
     const NcOutput out = nc_->process(config_.stream.chunk_samples);
     const ChunkHeader header =
-        makeChunkHeader(window_.jobId(), out.setpoint.first_index, out.setpoint.period_s, nc_->totalSamples());
+        makeChunkHeader(window_.jobId(), out.setpoint.first_index, out.setpoint.period_s, nc_->plan().total_samples);
     setpoint_out_.push(toMsg(out.setpoint, header));
     laser_out_.push(toMsg(out.laser, header));
     if (config_.nc.debug)
       debug_out_.push(toMsg(out.debug, header));
     window_.sent(out.setpoint.endIndex());
     if (nc_->done())
-      ROS_INFO("nc: job %u done; %s", window_.jobId(), ncLimitsLine(nc_->stats(), config_.nc).c_str());
+      ROS_INFO("nc: job %u done; %s", window_.jobId(), ncLimitsLine(nc_->interpolator().stats(), config_.nc).c_str());
   }
 }
 }  // namespace scanhead

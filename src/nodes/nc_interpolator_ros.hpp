@@ -15,7 +15,7 @@
 #include "ros_chunk_outlet.hpp"
 #include "ros_flow_window.hpp"
 #include "scanhead/chain/chain_config.hpp"
-#include "scanhead/nc/nc_interpolator.hpp"
+#include "scanhead/chain/chain_stages.hpp"
 
 namespace scanhead
 {
@@ -35,7 +35,7 @@ private:
 
   ChainConfig config_;
   std::unique_ptr<OpticalModel> optics_;
-  std::unique_ptr<NcInterpolator> nc_;
+  std::unique_ptr<NcStage> nc_;  ///< the current job's NC (a new one per job: a rejected job leaves none)
   ChunkOutlet<NcSetpoint> setpoint_out_;
   ChunkOutlet<NcLaser> laser_out_;
   ChunkOutlet<NcDebug> debug_out_;

@@ -58,13 +58,13 @@ std::vector<double> timedRun(const ChainConfig& config, const OpticalModel& opti
   const auto t_setup = Clock::now();
   // The stages as the batch chain and the nodes drive them (chain_stages.hpp).
   NcStage nc(config, optics);
-  ServoStage servo(config.servo, config.nc.period_s);
+  ServoStage servo(config.servo);
   OpticsStage stage(optics);
   EnergySinkStage energy(config);
   nc.reset(job);
   const PlannedJob planned{job, nc.plan()};
-  servo.reset(planned);
-  stage.reset(planned);
+  servo.reset({nc.plan().period_s});
+  stage.reset({});
   energy.reset(planned);
   std::vector<double> t(6, 0.0);  // nc, servo, optics, energy, setup, total
   t[4] = seconds(Clock::now() - t_setup);

@@ -5,8 +5,8 @@
 /// |-------------|-------------------|------------------------------|--------------|
 /// | CamStage    | job argument      | (nothing) → the Job          | the Job      |
 /// | NcStage     | Job               | sample budget → NcOutput     | empty output |
-/// | ServoStage  | PlannedJob        | SetpointChunk → JointChunk   | empty chunk  |
-/// | OpticsStage | PlannedJob        | OpticsInput → SpotChunk      | empty chunk  |
+/// | ServoStage  | ServoJob (period) | SetpointChunk → JointChunk   | empty chunk  |
+/// | OpticsStage | (nothing)         | OpticsInput → SpotChunk      | empty chunk  |
 /// | EnergySinkStage | PlannedJob    | SpotChunk → samples taken    | RunMetrics   |
 ///
 /// The NC is the source: its plan of the job (NcStage::plan(), nc_plan.hpp) is what every later
@@ -36,6 +36,12 @@ struct PlannedJob
 {
   const Job& job;
   const NcPlan& plan;
+};
+
+/// \brief What the servo needs of a job: the sample period of its setpoint stream [s].
+struct ServoJob
+{
+  double period_s = 0.0;
 };
 
 /// \brief A stage input that carries nothing (the CAM stage's process()).
@@ -77,18 +83,20 @@ private:
   NcInterpolator nc_;
 };
 
-/// \brief The servo stage: both axes, at rest where the job starts (the first setpoint sample).
-class ServoStage final : public Stage<PlannedJob, SetpointChunk, JointChunk>
+/// \brief The servo stage: both axes, at rest where the job starts (its first setpoint sample).
+class ServoStage final : public Stage<ServoJob, SetpointChunk, JointChunk>
 {
 public:
-  ServoStage(const ServoConfig& config, double period_s) : servo_(config, period_s) {}
-  void reset(const PlannedJob&) override {}
-  /// \brief The chunk at sample 0 first puts the mirrors at rest on its first setpoint.
+  explicit ServoStage(const ServoConfig& config) : config_(config) {}
+  /// \brief A new job: a servo at \p job.period_s, put at rest by the first chunk's first setpoint.
+  void reset(const ServoJob& job) override;
   JointChunk process(const SetpointChunk& setpoint) override;
   JointChunk finish() override { return JointChunk(); }
 
 private:
-  GalvoServo servo_;
+  ServoConfig config_;
+  std::unique_ptr<GalvoServo> servo_;
+  bool at_rest_pending_ = false;
 };
 
 /// \brief The three streams the optics joins, sample-aligned (same first_index, size and period).
@@ -100,12 +108,12 @@ struct OpticsInput
 };
 
 /// \brief The optics stage: setpoint, measured joints and laser become the spot stream.
-class OpticsStage final : public Stage<PlannedJob, OpticsInput, SpotChunk>
+class OpticsStage final : public Stage<NoInput, OpticsInput, SpotChunk>
 {
 public:
   /// \param[in] optics must outlive this object
   explicit OpticsStage(const OpticalModel& optics) : optics_(optics) {}
-  void reset(const PlannedJob&) override {}
+  void reset(const NoInput&) override {}  // stateless: each sample is traced on its own
   SpotChunk process(const OpticsInput& in) override { return optics_.process(in.setpoint, in.joints, in.laser); }
   SpotChunk finish() override { return SpotChunk(); }
 
@@ -126,6 +134,9 @@ public:
   RunMetrics finish() override;
   /// \brief The energy stage of the last job (map, traces). \pre reset() was called
   const EnergyStage& stage() const;
+  /// \brief Hands over the energy stage of the last job (e.g. to keep showing it while the next
+  /// job runs); process() and finish() need a reset() after this.
+  std::unique_ptr<EnergyStage> release() { return std::move(stage_); }
 
 private:
   ChainConfig config_;
