@@ -67,8 +67,7 @@ void ThermalLayer::reset()
   window_.reset();
   switched_.clear();
   record_ = MeltedRecord();
-  started_ = false;
-  next_index_ = 0;
+  sequence_.reset();
   period_s_ = 0.0;
   pending_.clear();
   step_count_ = 0;
@@ -92,18 +91,18 @@ void ThermalLayer::process(const SpotChunk& chunk)
     msg << "thermal: chunk period_s must be > 0 (got " << chunk.period_s << ") at sample " << chunk.first_index;
     throw InputError(msg.str());
   }
-  if (started_ && chunk.period_s != period_s_)
+  const bool started = sequence_.started();
+  if (started && chunk.period_s != period_s_)
   {
     std::ostringstream msg;
     msg << "thermal: chunk period_s changed from " << period_s_ << " to " << chunk.period_s << " s at sample "
         << chunk.first_index;
     throw InputError(msg.str());
   }
-  for (std::size_t k = 0; k < chunk.samples.size(); ++k)
+  const ChunkAdmission admission = sequence_.admit(chunk.first_index, chunk.samples.size());
+  for (std::size_t k = admission.skip; k < chunk.samples.size(); ++k)  // earlier ones already simulated
   {
     const std::uint64_t index = chunk.first_index + k;
-    if (started_ && index < next_index_)
-      continue;  // overlap or late chunk: already simulated
     const SpotSample& s = chunk.samples[k];
     if (!std::isfinite(s.power_w) || s.power_w < 0.0)
     {
@@ -119,9 +118,9 @@ void ThermalLayer::process(const SpotChunk& chunk)
       throw NumericalError(msg.str());
     }
     period_s_ = chunk.period_s;
-    if (started_)
+    if (k == admission.skip && admission.broken(started))
     {
-      for (std::uint64_t g = next_index_; g < index; ++g)  // gap: laser off where the spot last was
+      for (std::uint64_t g = index - admission.missing; g < index; ++g)  // gap: laser off where the spot last was
       {
         SpotSample off;
         off.actual = off.setpoint = last_pos_;
@@ -129,11 +128,9 @@ void ThermalLayer::process(const SpotChunk& chunk)
         pushSample(off, g);
       }
     }
-    started_ = true;
     pushSample(s, index);
     if (s.actual.allFinite())
       last_pos_ = s.actual;
-    next_index_ = index + 1;
   }
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "scanhead/common/chunk.hpp"
+#include "scanhead/common/chunk_sequencer.hpp"
 #include "scanhead/thermal/layer_window.hpp"
 #include "scanhead/thermal/lod_solver.hpp"
 #include "scanhead/thermal/melt_pool.hpp"
@@ -123,8 +124,7 @@ private:
   std::vector<double> gx_, gy_;         ///< footprint weights scratch
   std::vector<std::int32_t> switched_;  ///< cells switched this step (flat index)
   // Stream.
-  bool started_ = false;
-  std::uint64_t next_index_ = 0;
+  ChunkSequencer sequence_;  ///< samples already simulated, gaps to fill
   double period_s_ = 0.0;
   std::vector<Pending> pending_;
   std::uint64_t step_count_ = 0;
