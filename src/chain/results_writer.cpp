@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <system_error>
 
-#include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/report/energy_exports.hpp"
 #include "scanhead/report/thermal_images.hpp"
 #include "scanhead/chain/config_io.hpp"

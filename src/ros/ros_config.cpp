@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/optics/optics_loading.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"

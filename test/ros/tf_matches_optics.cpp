@@ -6,7 +6,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "ros_config.hpp"
-#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/optics/optics_loading.hpp"
 
 using namespace scanhead;
 

@@ -10,7 +10,7 @@
 #include "scanhead/common/chunk_sequencer.hpp"
 #include "scanhead/metrics/layer_quality.hpp"
 #include "scanhead/thermal/thermal_results.hpp"
-#include "scanhead/nc/nc_program.hpp"
+#include "scanhead/nc/nc_stats.hpp"
 #include "scanhead/job/scan_job.hpp"
 
 namespace scanhead
