@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <iostream>
@@ -63,20 +64,26 @@ struct ConfigArguments
   ChainConfig load() const { return loadChainConfig(resolvePackagePath(path), overrides); }
 };
 
-/// \brief Value checks for CLI11 options. A failed check reads "OPTION: must be ... (got 'TEXT')".
+/// \brief Value checks for CLI11 options, attached with Option::transform (not check(), which
+/// would run them on a copy of the text). A failed check reads "OPTION: must be ... (got 'TEXT')".
+/// The number checks read the text as the core does (parseNumber: std::stod, finite) and hand CLI11
+/// that double's 17-digit text, so the option holds the same double bit for bit (CLI11 itself
+/// would read through long double and round twice); integers are handed over as integer text.
 namespace check
 {
-/// \brief An integer >= 2 (grid sizes, node counts).
-inline CLI::Validator integerAtLeastTwo()
+/// \brief An integer >= \p minimum (grid sizes, node counts, repeats); "1e2" and "65.0" are integers.
+inline CLI::Validator integerAtLeast(int minimum)
 {
   return CLI::Validator(
-      [](std::string& text) -> std::string {
+      [minimum](std::string& text) -> std::string {
         double value = 0.0;
-        if (parseNumber(text, value) != NumberText::Ok || value != static_cast<int>(value) || value < 2)
-          return "must be an integer >= 2 (got '" + text + "')";
+        if (parseNumber(text, value) != NumberText::Ok || value < minimum || value > 2147483647.0 ||
+            value != std::floor(value))
+          return "must be an integer >= " + std::to_string(minimum) + " (got '" + text + "')";
+        text = std::to_string(static_cast<int>(value));
         return {};
       },
-      "INT>=2");
+      "INT>=" + std::to_string(minimum));
 }
 
 /// \brief A finite number > 0.
@@ -87,6 +94,7 @@ inline CLI::Validator positiveNumber()
         double value = 0.0;
         if (parseNumber(text, value) != NumberText::Ok || !(value > 0.0))
           return "must be a positive number (got '" + text + "')";
+        text = fullPrecisionText(value);  // CLI11 reads via long double: 17 digits read back exactly
         return {};
       },
       "NUMBER>0");
@@ -100,6 +108,7 @@ inline CLI::Validator nonNegativeNumber()
         double value = 0.0;
         if (parseNumber(text, value) != NumberText::Ok || !(value >= 0.0))
           return "must be a number >= 0 (got '" + text + "')";
+        text = fullPrecisionText(value);  // CLI11 reads via long double: 17 digits read back exactly
         return {};
       },
       "NUMBER>=0");
@@ -113,9 +122,10 @@ inline CLI::Validator finiteNumber()
         double value = 0.0;
         if (parseNumber(text, value) != NumberText::Ok)
           return "must be a finite number (got '" + text + "')";
+        text = fullPrecisionText(value);  // CLI11 reads via long double: 17 digits read back exactly
         return {};
       },
-      "NUMBER");
+      "");  // the option's type name says it
 }
 
 /// \brief A decimal integer in [0, 2^64) (seeds).
@@ -147,7 +157,7 @@ inline CLI::Validator oneOf(const std::vector<std::string>& words)
             return {};
         return "must be " + list + " (got '" + text + "')";
       },
-      list);
+      "");  // the option's type name lists the words
 }
 }  // namespace check
 
@@ -235,7 +245,19 @@ inline bool parseCommandLine(CLI::App& app, int argc, char** argv)
   catch (const CLI::ParseError& e)
   {
     detail::checkCommand(app);  // a missing or misspelt command word explains the rest
-    throw ConfigError(e.what());
+    const std::vector<CLI::App*> selected = app.get_subcommands();
+    const CLI::App* command = selected.empty() ? &app : selected.front();
+    const std::string message = e.what();
+    if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr)
+    {
+      const std::string names = detail::positionalNames(*command);
+      const std::string missing = message.substr(0, message.find(' '));
+      if ((" " + names + " ").find(" " + missing + " ") != std::string::npos)
+        throw ConfigError(message + " (" + command->get_name() + " takes " + names + ")");
+      if (command != &app && command->get_option_no_throw(missing) != nullptr)
+        throw ConfigError(message + " by " + command->get_name());
+    }
+    throw ConfigError(message);
   }
   detail::checkCommand(app);
   detail::checkExtras(app);
