@@ -16,23 +16,13 @@
 #include "scanhead/job/formats/job_io.hpp"
 #include "benchmark_contour_error.hpp"
 #include "process_memory.hpp"
+#include "support/command_line.hpp"
 
 using namespace scanhead;
 using Clock = std::chrono::steady_clock;
 
 namespace
 {
-const char* kUsage =
-    "usage: scanhead_benchmark [--job SPEC] [--repeat N] [--config FILE] [--set key=value ...]\n"
-    "  Runs the job N times (default 20) through NC, servo, optics and energy stage by stage\n"
-    "  and prints samples per second per stage and the real-time factor (job time / wall time).\n"
-    "  Default jobs: corner (the NC paper's case) and hatch (5 mm square, 100 um spacing).\n"
-    "  Then the NC alone on the last job with each NC option (table IGT, adaptive filters, delays,\n"
-    "  skywriting, power ~ speed, quantisation, debug signals): samples per second and ratio to the default;\n"
-    "  and the optical models: spots per second of the ray trace, the Newton inverse and the table inverse;\n"
-    "  and the contour-error definitions on a synthetic hatch of --contour-points points (default 1e7).\n"
-    "  --chain-only: the jobs' chain figures only (e.g. --job squares:recipe=1 --repeat 1 --chain-only).\n";
-
 double seconds(Clock::duration d)
 {
   return std::chrono::duration<double>(d).count();
@@ -236,35 +226,37 @@ int main(int argc, char** argv)
 {
   try
   {
-    std::vector<std::string> jobs, overrides;
-    std::string config_path = "config/scanhead.yaml";
+    std::vector<std::string> jobs;
+    ConfigArguments config_arguments;
     int repeat = 20;
     bool chain_only = false;
-    std::size_t contour_points = 10000000;
-    for (int i = 1; i < argc; ++i)
-    {
-      const std::string arg = argv[i];
-      if ((arg == "--job" || arg == "--repeat" || arg == "--config" || arg == "--set" || arg == "--contour-points") &&
-          i + 1 >= argc)
-        throw std::runtime_error(arg + " needs a value\n" + kUsage);
-      if (arg == "--job")
-        jobs.push_back(argv[++i]);
-      else if (arg == "--repeat")
-        repeat = std::max(1, std::atoi(argv[++i]));
-      else if (arg == "--config")
-        config_path = argv[++i];
-      else if (arg == "--set")
-        overrides.push_back(argv[++i]);
-      else if (arg == "--chain-only")
-        chain_only = true;
-      else if (arg == "--contour-points")
-        contour_points = static_cast<std::size_t>(std::max(1000.0, std::atof(argv[++i])));
-      else
-      {
-        std::cout << kUsage;
-        return arg == "--help" || arg == "-h" ? 0 : 1;
-      }
-    }
+    double contour_points_option = 1e7;
+    CLI::App app("Throughput of each stage and real-time factor of the in-process chain.", "scanhead_benchmark");
+    configureApp(app);
+    app.footer(
+        "Runs the job N times through NC, servo, optics and energy stage by stage and prints samples per\n"
+        "second per stage and the real-time factor (job time / wall time). Default jobs: corner (the NC\n"
+        "paper's case) and hatch (5 mm square, 100 um spacing). Then the NC alone on the last job with each\n"
+        "NC option (table IGT, adaptive filters, delays, skywriting, power ~ speed, quantisation, debug\n"
+        "signals): samples per second and ratio to the default; and the optical models: spots per second\n"
+        "of the ray trace, the Newton inverse and the table inverse; and the contour-error definitions on\n"
+        "a synthetic hatch of --contour-points points.");
+    app.add_option("--job", jobs, "a job spec, as scanhead_run --job (repeatable; default: corner and hatch)")
+        ->type_name("SPEC")
+        ->allow_extra_args(false);
+    app.add_option("--repeat", repeat, "runs per job (default 20)")->type_name("N")->transform(check::integerAtLeast(1));
+    config_arguments.addTo(app, "nc.fir_t1_s=300e-6");
+    app.add_flag("--chain-only", chain_only,
+                 "the jobs' chain figures only (e.g. --job squares:recipe=1 --repeat 1 --chain-only)");
+    app.add_option("--contour-points", contour_points_option,
+                   "points of the synthetic hatch for the contour errors (default 1e7, at least 1000)")
+        ->type_name("N")
+        ->transform(check::positiveNumber());
+    if (!parseCommandLine(app, argc, argv))
+      return 0;
+    const std::string& config_path = config_arguments.path;
+    const std::vector<std::string>& overrides = config_arguments.overrides;
+    const std::size_t contour_points = static_cast<std::size_t>(std::max(1000.0, contour_points_option));
     if (jobs.empty())
       jobs = {"corner", "hatch"};
     const ChainConfig config = loadChainConfig(resolvePackagePath(config_path), overrides);

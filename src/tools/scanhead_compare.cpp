@@ -3,20 +3,14 @@
 #include <iostream>
 #include <string>
 
-#include "argument_cursor.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/text_file.hpp"
+#include "support/command_line.hpp"
 #include "support/python_plots.hpp"
 #include "scanhead/metrics/run_comparison.hpp"
 
 namespace
 {
-const std::string kUsage =
-    "usage: scanhead_compare RUN_A RUN_B [--names A,B] [--out DIR]\n"
-    "  RUN_A, RUN_B  results folders of scanhead_run / the virtual machine (or their metrics.yaml)\n"
-    "  --names       labels of the two runs (default: their job names)\n"
-    "  --out         write comparison.yaml, comparison.md and comparison.png (scripts/plot_comparison.py) there\n";
-
 std::string metricsPath(const std::string& run)
 {
   return std::filesystem::is_directory(run) ? (std::filesystem::path(run) / "metrics.yaml").string() : run;
@@ -29,22 +23,18 @@ int main(int argc, char** argv)
   using namespace scanhead;
   try
   {
-    std::vector<std::string> runs;
-    std::string names, out;
-    ArgumentCursor args(argc, argv, kUsage);
-    while (args.next())
-    {
-      if (args.is("--names"))
-        names = args.value();
-      else if (args.is("--out"))
-        out = args.value();
-      else if (!args.isOption())
-        runs.push_back(args.arg());
-      else
-        args.reject();
-    }
-    if (runs.size() != 2)
-      throw ConfigError("give exactly two runs (got " + std::to_string(runs.size()) + ")\n" + kUsage);
+    std::string run_a, run_b, names, out;
+    CLI::App app("Two runs side by side (THESIS Table 3.1), as a table, YAML, Markdown and a plot.", "scanhead_compare");
+    configureApp(app);
+    app.add_option("RUN_A", run_a, "results folder of scanhead_run / the virtual machine (or its metrics.yaml)")
+        ->required();
+    app.add_option("RUN_B", run_b, "the second run, likewise")->required();
+    app.add_option("--names", names, "labels of the two runs (default: their job names)")->type_name("A,B");
+    app.add_option("--out", out, "write comparison.yaml, comparison.md and comparison.png (scripts/plot_comparison.py) there")
+        ->type_name("DIR");
+    if (!parseCommandLine(app, argc, argv))
+      return 0;
+    const std::vector<std::string> runs{ run_a, run_b };
     RunComparison comparison = compareMetricsFiles(metricsPath(runs[0]), metricsPath(runs[1]));
     if (!names.empty())
     {

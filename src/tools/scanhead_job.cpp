@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "argument_cursor.hpp"
 #include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/common/text_file.hpp"
 #include "scanhead/job/generators/builtin_jobs.hpp"
@@ -19,21 +18,10 @@
 #include "scanhead/report/job_picture.hpp"
 #include "scanhead/job/job_stats.hpp"
 #include "scanhead/job/formats/segment_path.hpp"
+#include "support/command_line.hpp"
 
 namespace
 {
-const char* kUsage =
-    "usage: scanhead_job COMMAND [JOB] [--config FILE] [--set section.key=value ...] [options]\n"
-    "commands:\n"
-    "  stats JOB                 statistics on the ideal timeline (YAML): lengths, counts, times, energy;\n"
-    "                            for the built-in squares job also the time of each square\n"
-    "  picture JOB --out F.png   the job drawn: marks dark blue, jumps grey dashed [--size PX, default 1600]\n"
-    "  convert JOB --out F       write the job as .yaml or .cli (ASCII; --binary for binary CLI)\n"
-    "                            [--units-mm U, CLI unit in mm, default 0.001]\n"
-    "  bench                     reading speed (MB/s) of each reader on a large generated job [--lines N]\n"
-    "JOB: a .yaml job, a .cli file (ASCII or binary), a segment scan-path file, or a built-in job\n"
-    "(corner, hatch, squares; see scanhead_run --help). --set cam.layer=N and cam.units=mm|m apply.\n";
-
 struct Arguments
 {
   std::string command, job, out;
@@ -44,52 +32,45 @@ struct Arguments
   double units_mm = 1e-3;
 };
 
-double numberArgument(const std::string& name, const std::string& text)
+/// \brief The command and its options into \p a. \return false after --help
+bool parse(int argc, char** argv, Arguments& a)
 {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || !(value > 0.0))
-    throw scanhead::ConfigError(name + " must be a positive number (got '" + text + "')");
-  return value;
+  CLI::App app("Scan jobs on their own: statistics, picture, conversion, reader speed.", "scanhead_job");
+  scanhead::configureApp(app);
+  app.footer("JOB: a .yaml job, a .cli file (ASCII or binary), a segment scan-path file, or a built-in job\n"
+             "(corner, hatch, squares; see scanhead_run --help). --set cam.layer=N and cam.units=mm|m apply.");
+  a.config.addTo(app, "cam.layer=2");
+  const auto job = [&](CLI::App* command) {
+    command->add_option("JOB", a.job, "the job (see below)")->required();
+  };
+  double size = a.size, lines = static_cast<double>(a.lines);
+  job(app.add_subcommand("stats", "statistics on the ideal timeline (YAML): lengths, counts, times, energy;\n"
+                                  "for the built-in squares job also the time of each square"));
+  CLI::App* picture = app.add_subcommand("picture", "the job drawn: marks dark blue, jumps grey dashed");
+  job(picture);
+  picture->add_option("--out", a.out, "the picture to write")->type_name("F.png")->required();
+  picture->add_option("--size", size, "picture size in pixels (default 1600)")
+      ->type_name("PX")
+      ->transform(scanhead::check::positiveNumber());
+  CLI::App* convert = app.add_subcommand("convert", "write the job as .yaml or .cli (ASCII; --binary for binary CLI)");
+  job(convert);
+  convert->add_option("--out", a.out, "the file to write: .yaml, .yml or .cli")->type_name("F")->required();
+  convert->add_flag("--binary", a.binary, "binary CLI instead of ASCII");
+  convert->add_option("--units-mm", a.units_mm, "CLI unit in mm (default 0.001)")
+      ->type_name("U")
+      ->transform(scanhead::check::positiveNumber());
+  CLI::App* bench = app.add_subcommand("bench", "reading speed (MB/s) of each reader on a large generated job");
+  bench->add_option("--lines", lines, "hatch lines of the generated job (default 20000)")
+      ->type_name("N")
+      ->transform(scanhead::check::positiveNumber());
+  app.require_subcommand(0, 1);  // one command; a missing one is named by parseCommandLine
+  if (!scanhead::parseCommandLine(app, argc, argv))
+    return false;
+  a.command = app.get_subcommands().front()->get_name();
+  a.size = static_cast<int>(size);
+  a.lines = static_cast<long>(lines);
+  return true;
 }
-
-Arguments parse(int argc, char** argv)
-{
-  Arguments a;
-  scanhead::ArgumentCursor args(argc, argv, kUsage);
-  while (args.next())
-  {
-    if (a.config.take(args))
-      continue;
-    if (args.is("--out"))
-      a.out = args.value();
-    else if (args.is("--size"))
-      a.size = static_cast<int>(numberArgument("--size", args.value()));
-    else if (args.is("--lines"))
-      a.lines = static_cast<long>(numberArgument("--lines", args.value()));
-    else if (args.is("--units-mm"))
-      a.units_mm = numberArgument("--units-mm", args.value());
-    else if (args.is("--binary"))
-      a.binary = true;
-    else if (args.isOption())
-      args.reject();
-    else if (a.command.empty())
-      a.command = args.arg();
-    else if (a.job.empty())
-      a.job = args.arg();
-    else
-      args.reject();
-  }
-  if (a.command != "stats" && a.command != "picture" && a.command != "convert" && a.command != "bench")
-    throw scanhead::ConfigError((a.command.empty() ? std::string("no command") : "unknown command '" + a.command + "'") +
-                                "\n" + kUsage);
-  if (a.command != "bench" && a.job.empty())
-    throw scanhead::ConfigError(a.command + " needs a JOB\n" + kUsage);
-  if ((a.command == "picture" || a.command == "convert") && a.out.empty())
-    throw scanhead::ConfigError(a.command + " needs --out FILE");
-  return a;
-}
-
 
 bool endsWith(const std::string& text, const std::string& suffix)
 {
@@ -155,7 +136,9 @@ int main(int argc, char** argv)
   using namespace scanhead;
   try
   {
-    const Arguments args = parse(argc, argv);
+    Arguments args;
+    if (!parse(argc, argv, args))
+      return 0;
     if (args.command == "bench")
     {
       bench(args.lines);

@@ -2,15 +2,12 @@
 // direct and inverse models, the URDF of the machine, the correction-table residual, the
 // defects' influence maps, and the calibration of a machine from measured spots.
 #include <algorithm>
-#include <cerrno>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "argument_cursor.hpp"
 #include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/common/text_file.hpp"
 #include "scanhead/optics/calibration.hpp"
@@ -20,49 +17,15 @@
 #include "scanhead/optics/influence_map.hpp"
 #include "scanhead/common/number_text.hpp"
 #include "scanhead/optics/optical_defects.hpp"
+#include "support/command_line.hpp"
 #include "support/python_plots.hpp"
 
 namespace
 {
-const char* kUsage =
-    "usage: scanhead_optics COMMAND [--defects SET] [ARGUMENTS] [--config FILE] [--set section.key=value ...]\n"
-    "commands:\n"
-    "  trace THETA_X THETA_Y   the spot 'x y z' [m] of the machine at mechanical angles [rad], in its\n"
-    "                          work-plane frame (the bed's own coordinates; z = 0 on the plane)\n"
-    "  inverse X Y             the angles 'theta_x theta_y' [rad] that put the spot at (X, Y) [m]\n"
-    "                          (Newton inverse of that machine)\n"
-    "  urdf                    the machine's URDF: the package URDF (optics.urdf_path) with the\n"
-    "                          defect set written into its defect joints\n"
-    "  residual [--nodes N] [--probes P] [--interpolation bilinear|bicubic]\n"
-    "                          spot error over the field (YAML) of the correction table built from the\n"
-    "                          nominal model and of the one built from the machine's own model, both\n"
-    "                          run on the machine (defaults: nc.igt.table_nodes, 129 probes per axis,\n"
-    "                          nc.igt.table_interpolation)\n"
-    "  influence --out DIR [--grid N]\n"
-    "                          each of the 30 defects alone at 1 mm or 1 mrad: global shift at O_p and\n"
-    "                          non-linear part over the field (DIR/influence.yaml, DIR/influence_chart.png)\n"
-    "  field --out DIR [--grid N]\n"
-    "                          the spot displacement the machine's defect set causes over the field\n"
-    "                          (DIR/defect_field.csv, DIR/defect_field.png)\n"
-    "  calibrate [--grid N] [--noise M] [--seed S]\n"
-    "                          measure the machine's spots on an N x N grid of angles (noise M metres,\n"
-    "                          default 1e-6; the machine is --defects, e.g. random:seed=7), estimate its\n"
-    "                          defects from the nominal model, and report (YAML) the estimate, the\n"
-    "                          identifiable combinations and the spot error over the field of the\n"
-    "                          correction table before (nominal model) and after (identified model)\n"
-    "options:\n"
-    "  --defects SET  the machine (docs/defects.md): nominal | opt_table2 (OPT table 2) |\n"
-    "                 random:seed=N[,mm=B][,mrad=B] | a defect set file (.yaml)\n"
-    "                 (default: the config's optics.defects, nominal)\n"
-    "  --config       configuration YAML (default: the package's config/scanhead.yaml)\n"
-    "  --set          override one setting, e.g. --set optics.window_thickness_m=0.005 (repeatable)\n";
-
-const char* kCommands = "trace, inverse, urdf, residual, influence, field, calibrate";
-
 struct Arguments
 {
   std::string command;
-  std::vector<std::string> positional;  ///< after the command word
+  std::vector<double> point = { 0.0, 0.0 };  ///< trace: THETA_X THETA_Y [rad]; inverse: X Y [m]
   std::string defects;                  ///< empty: the config's optics.defects
   int nodes = 0;                        ///< 0: nc.igt.table_nodes
   int probes = 129;
@@ -72,105 +35,77 @@ struct Arguments
   double noise_m = 1e-6;                ///< calibrate
   std::uint64_t seed = 1;               ///< calibrate: noise seed
   scanhead::ConfigArguments config;
-  std::vector<std::string> given;       ///< the command's own options that were given
 };
 
-/// The options each command takes (besides --config and --set).
-const std::vector<std::pair<std::string, std::vector<std::string>>> kCommandOptions = {
-  { "trace", { "--defects" } },
-  { "inverse", { "--defects" } },
-  { "urdf", { "--defects" } },
-  { "residual", { "--defects", "--nodes", "--probes", "--interpolation" } },
-  { "influence", { "--out", "--grid" } },
-  { "field", { "--defects", "--out", "--grid" } },
-  { "calibrate", { "--defects", "--grid", "--noise", "--seed" } },
-};
-
-std::uint64_t seedArgument(const std::string& text)
+/// \brief The command and its options into \p a. \return false after --help
+bool parse(int argc, char** argv, Arguments& a)
 {
-  errno = 0;
-  char* end = nullptr;
-  const unsigned long long value = std::strtoull(text.c_str(), &end, 10);
-  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || *end != '\0' || errno == ERANGE)
-    throw scanhead::ConfigError("--seed must be an integer in [0, 2^64) (got '" + text + "')");
-  return static_cast<std::uint64_t>(value);
-}
+  using namespace scanhead;
+  CLI::App app("The optical chain of a machine with its assembly defects (SPEC §4, OPT): direct and inverse\n"
+               "models, the machine's URDF, the correction-table residual, the defects' influence maps,\n"
+               "and the calibration of a machine from measured spots.",
+               "scanhead_optics");
+  configureApp(app);
+  CLI::Option* defects = app.add_option("--defects", a.defects,
+                                        "the machine (docs/defects.md): nominal | opt_table2 (OPT table 2) |\n"
+                                        "random:seed=N[,mm=B][,mrad=B] | a defect set file (.yaml)\n"
+                                        "(default: the config's optics.defects, nominal); not with influence")
+                             ->type_name("SET");
+  a.config.addTo(app, "optics.window_thickness_m=0.005");
 
-double nonNegativeNumber(const std::string& option, const std::string& text)
-{
-  double value = 0.0;
-  if (scanhead::parseNumber(text, value) != scanhead::NumberText::Ok || !(value >= 0.0))
-    throw scanhead::ConfigError(option + " must be a number >= 0 (got '" + text + "')");
-  return value;
-}
-
-Arguments parse(int argc, char** argv)
-{
-  Arguments a;
-  scanhead::ArgumentCursor args(argc, argv, kUsage);
-  while (args.next())
-  {
-    if (a.config.take(args))
-      continue;
-    if (args.isOption())
-      a.given.push_back(args.arg());
-    if (args.is("--defects"))
-      a.defects = args.value();
-    else if (args.is("--nodes"))
-      a.nodes = scanhead::integerAtLeastTwo("--nodes", args.value());
-    else if (args.is("--probes"))
-      a.probes = scanhead::integerAtLeastTwo("--probes", args.value());
-    else if (args.is("--interpolation"))
-      a.interpolation = args.value();
-    else if (args.is("--out"))
-      a.out = args.value();
-    else if (args.is("--grid"))
-      a.grid = scanhead::integerAtLeastTwo("--grid", args.value());
-    else if (args.is("--noise"))
-      a.noise_m = nonNegativeNumber("--noise", args.value());
-    else if (args.is("--seed"))
-      a.seed = seedArgument(args.value());
-    else if (args.isOption())
-      args.reject();
-    else if (a.command.empty())
-      a.command = args.arg();
-    else
-      a.positional.push_back(args.arg());
-  }
-  if (a.command.empty())
-    throw scanhead::ConfigError(std::string("no command (commands: ") + kCommands + ")\n" + kUsage);
-  const auto command = std::find_if(kCommandOptions.begin(), kCommandOptions.end(),
-                                    [&](const auto& c) { return c.first == a.command; });
-  if (command == kCommandOptions.end())
-    throw scanhead::ConfigError("unknown command '" + a.command + "' (commands: " + kCommands + ")\n" + kUsage);
-  for (const std::string& option : a.given)
-  {
-    if (std::find(command->second.begin(), command->second.end(), option) == command->second.end())
-      throw scanhead::ConfigError(option + " is not an option of " + a.command + "\n" + kUsage);
-  }
-  if ((a.command == "influence" || a.command == "field") && a.out.empty())
-    throw scanhead::ConfigError(a.command + " needs --out DIR\n" + kUsage);
-  return a;
-}
-
-/// The positional arguments of the command, as numbers named \p names (their count).
-std::vector<double> numbers(const Arguments& a, const std::vector<std::string>& names)
-{
-  std::string expected;
-  for (const std::string& n : names)
-    expected += " " + n;
-  if (a.positional.size() != names.size())
-    throw scanhead::ConfigError(a.command + " takes" + (names.empty() ? std::string(" no arguments") : expected) +
-                                " (got " + std::to_string(a.positional.size()) + " argument" +
-                                (a.positional.size() == 1 ? "" : "s") + ")\n" + kUsage);
-  std::vector<double> values(names.size());
-  for (std::size_t k = 0; k < names.size(); ++k)
-  {
-    const scanhead::NumberText parsed = scanhead::parseNumber(a.positional[k], values[k]);
-    if (parsed != scanhead::NumberText::Ok)
-      throw scanhead::ConfigError(names[k] + " must be a finite number (got '" + a.positional[k] + "')");
-  }
-  return values;
+  const auto point = [&](CLI::App* command, const char* first, const char* second, const char* unit) {
+    command->add_option(first, a.point[0], unit)->type_name("NUMBER")->required()->transform(check::finiteNumber());
+    command->add_option(second, a.point[1], unit)->type_name("NUMBER")->required()->transform(check::finiteNumber());
+  };
+  const auto grid = [&](CLI::App* command, const char* help) {
+    command->add_option("--grid", a.grid, help)->type_name("N")->transform(check::integerAtLeast(2));
+  };
+  point(app.add_subcommand("trace", "the spot 'x y z' [m] of the machine at mechanical angles [rad], in its\n"
+                                    "work-plane frame (the bed's own coordinates; z = 0 on the plane)"),
+        "THETA_X", "THETA_Y", "mechanical angle [rad]");
+  point(app.add_subcommand("inverse", "the angles 'theta_x theta_y' [rad] that put the spot at (X, Y) [m]\n"
+                                      "(Newton inverse of that machine)"),
+        "X", "Y", "spot coordinate in the work-plane frame [m]");
+  app.add_subcommand("urdf", "the machine's URDF: the package URDF (optics.urdf_path) with the\n"
+                             "defect set written into its defect joints");
+  CLI::App* residual = app.add_subcommand(
+      "residual", "spot error over the field (YAML) of the correction table built from the nominal model\n"
+                  "and of the one built from the machine's own model, both run on the machine");
+  residual->add_option("--nodes", a.nodes, "table nodes per axis (default: nc.igt.table_nodes)")
+      ->type_name("N")
+      ->transform(check::integerAtLeast(2));
+  residual->add_option("--probes", a.probes, "probes per axis (default 129)")
+      ->type_name("P")
+      ->transform(check::integerAtLeast(2));
+  residual->add_option("--interpolation", a.interpolation, "default: nc.igt.table_interpolation")
+      ->type_name("bilinear|bicubic");
+  CLI::App* influence = app.add_subcommand(
+      "influence", "each of the 30 defects alone at 1 mm or 1 mrad: global shift at O_p and non-linear part\n"
+                   "over the field (DIR/influence.yaml, DIR/influence_chart.png)");
+  influence->add_option("--out", a.out, "output folder")->type_name("DIR")->required();
+  grid(influence, "field grid per axis (default 21)");
+  CLI::App* field = app.add_subcommand(
+      "field", "the spot displacement the machine's defect set causes over the field\n"
+               "(DIR/defect_field.csv, DIR/defect_field.png)");
+  field->add_option("--out", a.out, "output folder")->type_name("DIR")->required();
+  grid(field, "field grid per axis (default 21)");
+  CLI::App* calibrate = app.add_subcommand(
+      "calibrate", "measure the machine's spots on an N x N grid of angles, estimate its defects from the\n"
+                   "nominal model, and report (YAML) the estimate, the identifiable combinations and the\n"
+                   "spot error over the field of the correction table before (nominal model) and after\n"
+                   "(identified model); the machine is --defects, e.g. random:seed=7");
+  grid(calibrate, "angle grid per axis (default 15)");
+  calibrate->add_option("--noise", a.noise_m, "measurement noise [m] (default 1e-6)")
+      ->type_name("M")
+      ->transform(check::nonNegativeNumber());
+  calibrate->add_option("--seed", a.seed, "noise seed (default 1)")->type_name("S")->transform(check::unsigned64());
+  app.require_subcommand(0, 1);  // one command; a missing one is named by parseCommandLine
+  if (!parseCommandLine(app, argc, argv))
+    return false;
+  a.command = app.get_subcommands().front()->get_name();
+  if (influence->parsed() && defects->count() > 0)
+    throw ConfigError("--defects is not an option of influence (it measures each defect alone)");
+  return true;
 }
 
 /// The machine: the nominal URDF with the defect set applied.
@@ -206,7 +141,6 @@ void printReport(const char* key, const scanhead::TableErrorReport& r)
 int residual(const Arguments& a, const Machine& m)
 {
   using namespace scanhead;
-  numbers(a, {});
   const TableInterpolation interpolation =
       a.interpolation.empty()
           ? parseTableInterpolation(m.config.nc.igt.table_interpolation, "nc.igt.table_interpolation")
@@ -229,7 +163,6 @@ int residual(const Arguments& a, const Machine& m)
 int influence(const Arguments& a, const Machine& m)
 {
   using namespace scanhead;
-  numbers(a, {});
   std::filesystem::create_directories(a.out);
   const std::vector<InfluenceRow> rows = influenceTable(m.nominal, m.config.optics, a.grid != 0 ? a.grid : 21);
   const std::string yaml = a.out + "/influence.yaml";
@@ -242,7 +175,6 @@ int influence(const Arguments& a, const Machine& m)
 int field(const Arguments& a, const Machine& m)
 {
   using namespace scanhead;
-  numbers(a, {});
   std::filesystem::create_directories(a.out);
   const DefectField f = defectField(m.nominal, m.config.optics, m.defects, a.grid != 0 ? a.grid : 21);
   const std::string csv = a.out + "/defect_field.csv";
@@ -260,7 +192,6 @@ int field(const Arguments& a, const Machine& m)
 int calibrate(const Arguments& a, const Machine& m)
 {
   using namespace scanhead;
-  numbers(a, {});
   const OpticalModel nominal(m.nominal, m.config.optics);
   const std::vector<Eigen::Vector2d> angles = fieldAngleGrid(nominal, a.grid != 0 ? a.grid : 15);
   const std::vector<SpotMeasurement> measured = simulateMeasurements(m.optics, angles, a.noise_m, a.seed);
@@ -289,11 +220,13 @@ int main(int argc, char** argv)
   using namespace scanhead;
   try
   {
-    const Arguments args = parse(argc, argv);
+    Arguments args;
+    if (!parse(argc, argv, args))
+      return 0;
     const Machine machine = loadMachine(args);
     if (args.command == "trace")
     {
-      const std::vector<double> q = numbers(args, { "THETA_X", "THETA_Y" });
+      const std::vector<double>& q = args.point;
       const OpticalGeometry& g = machine.optics.geometry();
       for (const double angle : q)
       {
@@ -307,15 +240,12 @@ int main(int argc, char** argv)
     }
     else if (args.command == "inverse")
     {
-      const std::vector<double> x = numbers(args, { "X", "Y" });
+      const std::vector<double>& x = args.point;
       const Eigen::Vector2d q = machine.optics.inverse(Eigen::Vector2d(x[0], x[1]));
       std::cout << fullPrecisionText(q.x()) << " " << fullPrecisionText(q.y()) << "\n";
     }
     else if (args.command == "urdf")
-    {
-      numbers(args, {});
       std::cout << urdfWithDefects(readUrdfFile(machine.urdf_path), machine.defects, machine.urdf_path);
-    }
     else if (args.command == "residual")
       return residual(args, machine);
     else if (args.command == "influence")

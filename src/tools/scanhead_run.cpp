@@ -5,7 +5,6 @@
 #include <string>
 #include <vector>
 
-#include "argument_cursor.hpp"
 #include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/job/job_files.hpp"
 #include "scanhead/chain/config_io.hpp"
@@ -15,20 +14,13 @@
 #include "scanhead/metrics/metrics_report.hpp"
 #include "scanhead/chain/results_writer.hpp"
 #include "process_memory.hpp"
+#include "support/command_line.hpp"
 #include "support/python_plots.hpp"
 
 #include <chrono>
 
 namespace
 {
-const std::string kUsage =
-    "usage: scanhead_run [--job JOB] [--out DIR] [--config FILE] [--set section.key=value ...] [--quiet]\n"
-    "  --job     " + scanhead::jobFormatsHelp() + "\n"
-    "            (default: corner); CLI files: --set cam.layer=N (-1: all); segment files: --set cam.units=mm\n"
-    "  --out     results folder to write (metrics.yaml, energy map, plots, job statistics); default: results/<job>\n"
-    "  --config  configuration YAML (default: the package's config/scanhead.yaml)\n"
-    "  --set     override one setting, e.g. --set nc.fir_t1_s=300e-6 (repeatable)\n";
-
 struct Arguments
 {
   std::string job = "corner";
@@ -37,24 +29,21 @@ struct Arguments
   bool quiet = false;
 };
 
-Arguments parse(int argc, char** argv)
+/// \brief The options into \p a. \return false after --help
+bool parse(int argc, char** argv, Arguments& a)
 {
-  Arguments a;
-  scanhead::ArgumentCursor args(argc, argv, kUsage);
-  while (args.next())
-  {
-    if (a.config.take(args))
-      continue;
-    if (args.is("--job"))
-      a.job = args.value();
-    else if (args.is("--out"))
-      a.out = args.value();
-    else if (args.is("--quiet"))
-      a.quiet = true;
-    else
-      args.reject();
-  }
-  return a;
+  CLI::App app("The whole virtual machine in one process (batch runner).", "scanhead_run");
+  scanhead::configureApp(app);
+  app.add_option("--job", a.job,
+                 scanhead::jobFormatsHelp() +
+                     "\n(default: corner); CLI files: --set cam.layer=N (-1: all); segment files: --set cam.units=mm")
+      ->type_name("JOB");
+  app.add_option("--out", a.out,
+                 "results folder to write (metrics.yaml, energy map, plots, job statistics); default: results/<job>")
+      ->type_name("DIR");
+  a.config.addTo(app, "nc.fir_t1_s=300e-6");
+  app.add_flag("--quiet", a.quiet, "no job statistics, progress or metrics table");
+  return scanhead::parseCommandLine(app, argc, argv);
 }
 }  // namespace
 
@@ -63,7 +52,9 @@ int main(int argc, char** argv)
   using namespace scanhead;
   try
   {
-    const Arguments args = parse(argc, argv);
+    Arguments args;
+    if (!parse(argc, argv, args))
+      return 0;
     const ChainConfig config = args.config.load();
     const OpticalModel optics = loadOpticalModel(config.optics);
     Job job = loadJob(args.job, config.cam);

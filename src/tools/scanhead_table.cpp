@@ -4,33 +4,16 @@
 #include <string>
 #include <vector>
 
-#include "argument_cursor.hpp"
 #include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/optics/correction_table.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
 #include "scanhead/optics/optical_defects.hpp"
+#include "support/command_line.hpp"
 
 namespace
 {
-const char* kUsage =
-    "usage: scanhead_table [--nodes N] [--interpolation bilinear|bicubic] [--defects SET]\n"
-    "                      [--probes P] [--save FILE] [--load FILE] [--config FILE] [--set section.key=value ...]\n"
-    "Builds the correction table from the optics (Newton inverse at N x N nodes over the field\n"
-    "[-h, h]^2, h = optics.field_half_width_m), or loads it, and prints its error |h(q_table(x)) - x|\n"
-    "over P x P probes as YAML.\n"
-    "  --nodes          nodes per axis (default: nc.igt.table_nodes, 65); not with --load\n"
-    "  --interpolation  bilinear (THESIS) or bicubic (default: nc.igt.table_interpolation)\n"
-    "  --defects        assembly defects of the optics the table is built and checked on (docs/defects.md):\n"
-    "                   nominal | opt_table2 (OPT table 2) | random:seed=N[,mm=B][,mrad=B] | a defect set\n"
-    "                   file (.yaml) (default: the config's optics.defects, nominal)\n"
-    "  --probes         probes per axis (default 257)\n"
-    "  --save FILE      write the built table (docs/correction_table.md)\n"
-    "  --load FILE      check a saved table instead of building one\n"
-    "  --config         configuration YAML (default: the package's config/scanhead.yaml)\n"
-    "  --set            override one setting, e.g. --set optics.field_half_width_m=0.15 (repeatable)\n";
-
 struct Arguments
 {
   int nodes = 0;  ///< 0: from the config
@@ -42,34 +25,33 @@ struct Arguments
   scanhead::ConfigArguments config;
 };
 
-Arguments parse(int argc, char** argv)
+/// \brief The options into \p a. \return false after --help
+bool parse(int argc, char** argv, Arguments& a)
 {
-  Arguments a;
-  scanhead::ArgumentCursor args(argc, argv, kUsage);
-  while (args.next())
-  {
-    if (a.config.take(args))
-      continue;
-    if (args.is("--nodes"))
-      a.nodes = scanhead::integerAtLeastTwo("--nodes", args.value());
-    else if (args.is("--interpolation"))
-      a.interpolation = args.value();
-    else if (args.is("--defects"))
-      a.defects = args.value();
-    else if (args.is("--probes"))
-      a.probes = scanhead::integerAtLeastTwo("--probes", args.value());
-    else if (args.is("--save"))
-      a.save = args.value();
-    else if (args.is("--load"))
-      a.load = args.value();
-    else
-      args.reject();
-  }
-  if (!a.load.empty() && a.nodes != 0)
-    throw scanhead::ConfigError("--nodes and --load exclude each other (a loaded table has its own nodes)");
-  if (!a.load.empty() && !a.save.empty())
-    throw scanhead::ConfigError("--save and --load exclude each other (copy the file instead)");
-  return a;
+  CLI::App app("Builds the correction table from the optics (Newton inverse at N x N nodes over the field\n"
+               "[-h, h]^2, h = optics.field_half_width_m), or loads it, and prints its error |h(q_table(x)) - x|\n"
+               "over P x P probes as YAML.",
+               "scanhead_table");
+  scanhead::configureApp(app);
+  CLI::Option* nodes = app.add_option("--nodes", a.nodes, "nodes per axis (default: nc.igt.table_nodes, 65); not with --load")
+                           ->type_name("N")
+                           ->transform(scanhead::check::integerAtLeast(2));
+  app.add_option("--interpolation", a.interpolation,
+                 "bilinear (THESIS) or bicubic (default: nc.igt.table_interpolation)")
+      ->type_name("bilinear|bicubic");
+  app.add_option("--defects", a.defects,
+                 "assembly defects of the optics the table is built and checked on (docs/defects.md):\n"
+                 "nominal | opt_table2 (OPT table 2) | random:seed=N[,mm=B][,mrad=B] | a defect set\n"
+                 "file (.yaml) (default: the config's optics.defects, nominal)")
+      ->type_name("SET");
+  app.add_option("--probes", a.probes, "probes per axis (default 257)")
+      ->type_name("P")
+      ->transform(scanhead::check::integerAtLeast(2));
+  CLI::Option* save = app.add_option("--save", a.save, "write the built table (docs/correction_table.md)")->type_name("FILE");
+  CLI::Option* load = app.add_option("--load", a.load, "check a saved table instead of building one")->type_name("FILE");
+  load->excludes(nodes)->excludes(save);
+  a.config.addTo(app, "optics.field_half_width_m=0.15");
+  return scanhead::parseCommandLine(app, argc, argv);
 }
 }  // namespace
 
@@ -78,7 +60,9 @@ int main(int argc, char** argv)
   using namespace scanhead;
   try
   {
-    const Arguments args = parse(argc, argv);
+    Arguments args;
+    if (!parse(argc, argv, args))
+      return 0;
     const ChainConfig config = args.config.load();
     const TableInterpolation interpolation =
         args.interpolation.empty() ? parseTableInterpolation(config.nc.igt.table_interpolation,

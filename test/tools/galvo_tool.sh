@@ -19,6 +19,6 @@ done
 [ -f "$tmp/km0/km0_report.yaml" ] || { echo "FAIL km0: no km0_report.yaml"; exit 1; }
 grep -q "verdict" "$tmp/km0.yaml" || { echo "FAIL km0: no verdict"; exit 1; }
 if "$tool" loops --axis z 2>"$tmp/err"; then echo "FAIL: --axis z accepted"; exit 1; fi
-grep -q "axis must be x or y" "$tmp/err" || { echo "FAIL: message"; cat "$tmp/err"; exit 1; }
+grep -q -- "--axis: must be x or y (got 'z')" "$tmp/err" || { echo "FAIL: message"; cat "$tmp/err"; exit 1; }
 if "$tool" km0 --axis x 2>"$tmp/err"; then echo "FAIL: km0 without --out accepted"; exit 1; fi
 echo "scanhead_galvo: loops, identify and km0 ok"

@@ -84,15 +84,15 @@ expect_error() {  # pattern, arguments...
 }
 expect_error "unknown command 'spot' (commands: trace, inverse, urdf, residual" spot 0 0
 expect_error "no command" --defects opt_table2
-expect_error "THETA_Y must be a finite number (got 'abc')" trace 0 abc
-expect_error "THETA_X must be a finite number (got 'nan')" trace nan 0
-expect_error "trace takes THETA_X THETA_Y (got 1 argument)" trace 0.1
+expect_error "THETA_Y: must be a finite number (got 'abc')" trace 0 abc
+expect_error "THETA_X: must be a finite number (got 'nan')" trace nan 0
+expect_error "THETA_Y is required (trace takes THETA_X THETA_Y)" trace 0.1
 expect_error "not reachable" inverse 0.5 0
 expect_error "unknown defect set 'typical'" trace --defects typical 0 0
 expect_error "random:seed=N" trace --defects random:seed=x 0 0
 expect_error "missing.yaml: cannot open" trace --defects "$tmp/missing.yaml" 0 0
 expect_error "--nodes is not an option of trace" trace --nodes 9 0 0
-expect_error "--seed must be an integer" calibrate --seed 1.5
+expect_error "--seed: must be an integer" calibrate --seed 1.5
 expect_error "outside the galvos" trace 0.5 0
 expect_error "--interpolation must be bilinear or bicubic" residual --interpolation cubic
 expect_error "unknown argument '--bogus'" urdf --bogus
