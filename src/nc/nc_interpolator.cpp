@@ -18,6 +18,7 @@
 #include "scanhead/common/box_filter.hpp"
 #include "scanhead/optics/correction_table.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
 #include "scanhead/servo/galvo_servo.hpp"
 #include "scanhead/optics/joint_gain.hpp"
 #include "scanhead/job/path_timeline.hpp"
@@ -38,12 +39,10 @@ std::uint64_t ceilSnapped(double x)
   return static_cast<std::uint64_t>(std::max(0.0, std::ceil(x)));
 }
 
+/// "(x, y) m" with 9 significant digits ("%.9g") for messages.
 std::string pointText(const Eigen::Vector2d& p)
 {
-  std::ostringstream s;
-  s.precision(9);
-  s << "(" << p.x() << ", " << p.y() << ") m";
-  return s.str();
+  return "(" + significantText(p.x(), 9) + ", " + significantText(p.y(), 9) + ") m";
 }
 
 Recipe followFilteredSetpoint(const NcConfig& config)
