@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "scanhead/common/config_check.hpp"
+#include "scanhead/common/number_text.hpp"
 #include "scanhead/job/path_timeline.hpp"
 
 namespace scanhead
@@ -113,20 +114,11 @@ JobStats compute(const Job& job, double implicit_jump_speed_mps, const std::vect
   return s;
 }
 
-/// Shortest text that reads back to the same double (YAML plain scalar).
+/// Shortest text that reads back to the same double (YAML plain scalar), from 10 significant
+/// digits on so that round numbers stay out of exponent form.
 std::string num(double v)
 {
-  char buf[40];
-  for (int precision = 10; precision <= 17; ++precision)
-  {
-    std::snprintf(buf, sizeof buf, "%.*g", precision, v);
-    double back = 0.0;
-    if (std::sscanf(buf, "%lf", &back) == 1 && back == v)
-    {
-      break;
-    }
-  }
-  return buf;
+  return shortestText(v, 10);
 }
 
 /// YAML double-quoted string.

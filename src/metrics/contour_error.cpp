@@ -64,8 +64,8 @@ void ContourErrorStats::add(double error_m)
 {
   if (!(error_m >= 0.0) || error_m > kMaxError_m)
   {
-    throw NumericalError("contour error: error " + text(error_m) + " m is NaN, negative or above " + text(kMaxError_m) +
-                         " m");
+    throw NumericalError("contour error: error " + fullPrecisionText(error_m) + " m is NaN, negative or above " +
+                         fullPrecisionText(kMaxError_m) + " m");
   }
   const auto q = static_cast<std::uint64_t>(std::llround(error_m * kPmPerM));
   ++count_;
@@ -105,8 +105,8 @@ std::uint64_t ContourErrorStats::countUnder(double limit_m) const
   const double whole = std::round(bins);
   if (!(std::abs(bins - whole) <= 1e-9) || whole < 0.0 || whole > static_cast<double>(kBins))
   {
-    throw InputError("contour error: limit " + text(limit_m) + " m is not a multiple of the " + text(kBinWidth_m) +
-                     " m bin in [0, " + text(kBins * kBinWidth_m) + "] m");
+    throw InputError("contour error: limit " + fullPrecisionText(limit_m) + " m is not a multiple of the " +
+                     fullPrecisionText(kBinWidth_m) + " m bin in [0, " + fullPrecisionText(kBins * kBinWidth_m) + "] m");
   }
   std::uint64_t n = 0;
   for (std::size_t b = 0; b < static_cast<std::size_t>(whole); ++b)
@@ -131,7 +131,7 @@ std::uint64_t ContourErrorStats::binCount(std::size_t bin) const
 double ContourErrorStats::quantileUpperBound(double fraction) const
 {
   if (!(fraction >= 0.0 && fraction <= 1.0))
-    throw InputError("contour error: quantile fraction " + text(fraction) + " is outside [0, 1]");
+    throw InputError("contour error: quantile fraction " + fullPrecisionText(fraction) + " is outside [0, 1]");
   if (count_ == 0)
     return std::numeric_limits<double>::quiet_NaN();
   const auto rank = std::max<std::uint64_t>(

@@ -1,27 +1,21 @@
 /// \file contour_error_text.hpp
-/// \brief Private to src/metrics (contour error, path store, grid index): numbers and points in
-/// error messages, 17 significant digits.
+/// \brief Private to src/metrics (contour error, path store, grid index, fill rate): points in
+/// error messages, 17 significant digits (fullPrecisionText, "%.17g").
 #pragma once
 
 #include <Eigen/Core>
-#include <sstream>
 #include <string>
+
+#include "scanhead/common/number_text.hpp"
 
 namespace scanhead
 {
 namespace
 {
-inline std::string text(double v)
-{
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
-
+/// "(x, y)" with each coordinate as fullPrecisionText.
 inline std::string pointText(const Eigen::Vector2d& p)
 {
-  return "(" + text(p.x()) + ", " + text(p.y()) + ")";
+  return "(" + fullPrecisionText(p.x()) + ", " + fullPrecisionText(p.y()) + ")";
 }
 }  // namespace
 }  // namespace scanhead

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "contour_error_text.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
 
@@ -91,11 +92,6 @@ double segmentBoxDistance2(const Eigen::Vector2d& a, const Eigen::Vector2d& b, d
     best = std::min(best, pointSegmentDistance2(c, a, b));
   }
   return best;
-}
-
-std::string pointText(const Eigen::Vector2d& p)
-{
-  return "(" + fullPrecisionText(p.x()) + ", " + fullPrecisionText(p.y()) + ")";
 }
 }  // namespace
 

@@ -319,7 +319,7 @@ double NearestPathIndex::distance(const Eigen::Vector2d& p, double upper_bound_m
   if (!p.allFinite())
     throw InputError("contour error: commanded point " + pointText(p) + " m is not finite");
   if (!(upper_bound_m >= 0.0))
-    throw InputError("contour error: upper bound " + text(upper_bound_m) + " m is negative or NaN");
+    throw InputError("contour error: upper bound " + fullPrecisionText(upper_bound_m) + " m is negative or NaN");
   double best = upper_bound_m;
   if (!grids_.empty())
     search(0, p, best, work);

@@ -109,14 +109,11 @@ std::string cell(double v, const std::string& unit)
 {
   if (std::isnan(v))
     return "-";
-  char text[64];
   if (unit == "%")
-    std::snprintf(text, sizeof text, "%.2f", v);
-  else if (unit == "samples")
-    std::snprintf(text, sizeof text, "%.0f", v);
-  else
-    std::snprintf(text, sizeof text, "%.4g", v);
-  return text;
+    return fixedText(v, 2);
+  if (unit == "samples")
+    return fixedText(v, 0);
+  return significantText(v, 4);
 }
 
 /// "A", "B" or "=" by the row's sense; "" where a value is missing or the figure ranks nothing.

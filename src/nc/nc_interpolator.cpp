@@ -1,32 +1,9 @@
 /// \file nc_interpolator.cpp
 /// \brief The NC stage (SPEC §2): NC program → X_inter → IGT → FIR T1 → velocity saturation →
 /// FIR T2 → Q_filt2 (or the adaptive filter in the plane → IGT), the laser gate aligned on the
-/// filtered setpoint, optional power modulation and XY2-100 quantisation.
-///
-/// IGT: OpticalModel::inverse (Newton on the ray trace, to its tolerance), warm-started from the
-/// linear extrapolation 2·q_{n−1} − q_{n−2} of the previous solutions (retried from q = 0 if that
-/// fails); a sample whose point equals the previous one reuses its solution (holds, the tail).
-/// Or the correction table (correction_table.hpp), which needs no guess.
-///
-/// Derivatives of Q_filt2 with fixed filters (the setpoint velocity and acceleration):
-///  * velocity: exact. Q_filt2(t) is the box mean over T2 of the piecewise-linear signal s(t)
-///    through the saturated samples, so dQ_filt2/dt(t_n) = (s_n − s(t_n − T2))/T2 with s
-///    linearly interpolated at the fractional delay (BoxFilter::derivative). T2 = 0: the
-///    velocity of s below.
-///  * velocity of s (after the saturation): where the axis is not limited, the exact derivative
-///    of the FIR T1 output, (q_n − q(t_n − T1))/T1 (T1 = 0: backward difference of Q_inter,
-///    the left derivative of its linear interpolation); where limited, ±max_joint_speed_radps.
-///  * acceleration: the same exact box derivative applied to the velocity samples of s read as
-///    a piecewise-linear signal, (ṡ_n − ṡ(t_n − T2))/T2 (T2 = 0: backward difference of ṡ).
-///    This is the exact acceleration of box_T2(box_T1(Q_inter)) up to the linear interpolation
-///    of the T1 velocity between samples, which differs from the true (kinked) velocity only in
-///    the periods containing a kink (O(Ts²·a/T2) on the integrated velocity); it reproduces the
-///    rectangle (T1) ⊗ box (T2) trapezoid of SPEC §2.3.
-/// Q_filt1's acceleration (debug) is the same box derivative of the Q_inter velocity over T1.
-///
-/// Power ∝ speed: the speed of the filtered path is taken in the work plane, by running the same
-/// box filters on X_inter (fixed) or from the adaptive filter: filtering in joint or task space
-/// gives the same path to < 0.1 µm (SPEC §2, NC §3), and the plane speed is what deposits energy.
+/// filtered setpoint, optional power modulation and XY2-100 quantisation. The IGT warm start, the
+/// exact derivatives of Q_filt2 and the plane speed for power ∝ speed are derived in
+/// nc_interpolator.hpp.
 #include "scanhead/nc/nc_interpolator.hpp"
 
 #include <Eigen/LU>
@@ -41,6 +18,7 @@
 #include "scanhead/common/box_filter.hpp"
 #include "scanhead/optics/correction_table.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
 #include "scanhead/servo/galvo_servo.hpp"
 #include "scanhead/optics/joint_gain.hpp"
 #include "scanhead/job/path_timeline.hpp"
@@ -61,12 +39,10 @@ std::uint64_t ceilSnapped(double x)
   return static_cast<std::uint64_t>(std::max(0.0, std::ceil(x)));
 }
 
+/// "(x, y) m" with 9 significant digits ("%.9g") for messages.
 std::string pointText(const Eigen::Vector2d& p)
 {
-  std::ostringstream s;
-  s.precision(9);
-  s << "(" << p.x() << ", " << p.y() << ") m";
-  return s.str();
+  return "(" + significantText(p.x(), 9) + ", " + significantText(p.y(), 9) + ") m";
 }
 
 Recipe followFilteredSetpoint(const NcConfig& config)

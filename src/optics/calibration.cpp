@@ -184,13 +184,6 @@ std::vector<std::pair<Eigen::Index, Eigen::VectorXd>> readableNullBasis(const De
   return basis;
 }
 
-std::string twoDecimals(double v)
-{
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.2f", v);
-  return buffer;
-}
-
 /// "0.71 work_plane.x + 0.71 axis_x.y": the pivot first, then the other coefficients of at least
 /// kPrintedCoefficient by decreasing printed |c| (ties in table order).
 std::string combinationText(Eigen::Index pivot, const Eigen::VectorXd& v)
@@ -212,9 +205,9 @@ std::string combinationText(Eigen::Index pivot, const Eigen::VectorXd& v)
   {
     const std::string label = defectLabel(static_cast<std::size_t>(c));
     if (text.empty())
-      text = (v[c] < 0.0 ? "-" : "") + twoDecimals(std::abs(v[c])) + " " + label;
+      text = (v[c] < 0.0 ? "-" : "") + fixedText(std::abs(v[c]), 2) + " " + label;
     else
-      text += (v[c] < 0.0 ? " - " : " + ") + twoDecimals(std::abs(v[c])) + " " + label;
+      text += (v[c] < 0.0 ? " - " : " + ") + fixedText(std::abs(v[c]), 2) + " " + label;
   }
   return text;
 }

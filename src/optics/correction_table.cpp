@@ -1,49 +1,7 @@
 /// \file correction_table.cpp
 /// \brief The NC's correction table (SPEC §2.2, THESIS §2.3.2.2): build, interpolate, save, load.
-///
-/// Nodes: x_i = −h + i·Δ, y_j = −h + j·Δ, Δ = 2h/(n−1), i, j = 0..n−1. Each node holds the joint
-/// angles q = h⁻¹(x) (Newton, OpticalModel::inverse, warm-started from the previous node) and, for
-/// the bicubic scheme, the derivatives q_x = ∂q/∂x, q_y = ∂q/∂y and q_xy = ∂²q/∂x∂y.
-///
-/// Bilinear (THESIS): the four surrounding nodes, weights (1−u)(1−v), u(1−v), (1−u)v, uv with
-/// u = (x − x_i)/Δ, v = (y − y_j)/Δ.
-///
-/// Bicubic: Hermite bicubic patch per cell, exact for bicubic polynomials:
-/// \f[ q(u, v) = \sum_{a, b \in \{0, 1\}} \phi_a(u)\phi_b(v)\,q_{ab}
-///     + \Delta\,\psi_a(u)\phi_b(v)\,q_{x,ab} + \Delta\,\phi_a(u)\psi_b(v)\,q_{y,ab}
-///     + \Delta^2\,\psi_a(u)\psi_b(v)\,q_{xy,ab} \f]
-/// with φ0 = 1 − 3u² + 2u³, φ1 = 3u² − 2u³, ψ0 = u − 2u² + u³, ψ1 = u³ − u². The first
-/// derivatives are exact: [q_x q_y] = J(q)⁻¹ with J = ∂spot/∂q from OpticalModel::jacobian (the
-/// inverse function theorem). The cross derivative q_xy is the average of the central differences
-/// of q_x along y and of q_y along x over one node spacing (second-order one-sided differences on
-/// the border; first-order when n = 2): its O(Δ²) error enters with a Δ² weight, so the patch stays
-/// O(Δ⁴). Chosen over Catmull-Rom because its first derivatives are exact instead of differenced,
-/// and over a bicubic spline because each cell needs only its four corners (no global solve).
-///
-/// Measured (g++ -O2, urdf/scanhead.urdf with the default OpticsConfig, n = 65, h = 0.175 m,
-/// 257 × 257 probes; error = |h(q_table(x)) − x|; test_correction_table.cpp asserts these):
-///   nominal           bilinear max 4.192 µm, RMS 1.797 µm;  bicubic max 0.0462 nm, RMS 0.0196 nm
-///   optTable2DefectSet bilinear max 4.191 µm, RMS 1.796 µm;  bicubic max 0.0462 nm, RMS 0.0196 nm
-/// (worst points in the corner cells). Halving Δ divides the errors by 3.95 (bilinear, O(Δ²)) and
-/// 16.7 (bicubic, O(Δ⁴)): 33 nodes give 16.5 µm / 0.77 nm, 129 nodes 1.05 µm / 2.9 pm.
-/// Points more than 1 nm (kEdgeTolerance_m, rounding of computed edge points) outside [−h, h]²
-/// throw NumericalError naming the point.
-/// Build 65 × 65: ~2.5 ms. joints() along a raster path: bilinear ≈ 6 ns, bicubic ≈ 14 ns per call.
-///
-/// File format (text, one record per line, '#' lines after the first are comments, blank lines
-/// ignored, fields separated by spaces or tabs):
-/// \code
-/// # scanhead correction table v1
-/// nodes 65
-/// half_width_m 0.17499999999999999
-/// columns i j q_x_rad q_y_rad dq_x_dx dq_y_dx dq_x_dy dq_y_dy d2q_x_dxdy d2q_y_dxdy
-/// 0 0 -0.11615888703535479 -0.12280797428169331 0.64017145388742425 ...  (n² node lines: j outer, i inner)
-/// \endcode
-/// The first line is the version. The keys nodes (integer, 2..2049), half_width_m (> 0, [m])
-/// and columns (exactly the list above) must all come before the first node line. Node lines give
-/// the indices i j (checked: row-major order) and the eight numbers: joint angles [rad], first
-/// derivatives [rad/m] and cross derivatives [rad/m²] of q_x and q_y, all written with 17
-/// significant digits (fullPrecisionText) so that a loaded table interpolates bit-identically.
+/// The interpolation schemes, their measured accuracy and the file format are documented in
+/// correction_table.hpp (CorrectionTable, CorrectionTable::load).
 #include "scanhead/optics/correction_table.hpp"
 
 #include <cmath>

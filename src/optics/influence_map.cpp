@@ -1,26 +1,6 @@
 /// \file influence_map.cpp
-/// \brief Influence of each assembly defect on the spot (SPEC §4, OPT eq. 7, Fig. 5 and 6).
-///
-/// Angle grid: θ_i = θ_max,x·(2i − (n − 1))/(n − 1), likewise θ_j, stored j outer (θy), i inner
-/// (θx): index j·n + i; an odd n puts θ = 0 exactly in the middle. θ_max per axis is the largest
-/// |θ| of the nominal inverse of the field's 4 corners AND 4 edge midpoints: the pincushion makes
-/// x ≈ (K1 + K2/cos 2θy)·tan 2θx (nominal_closed_form.cpp), so the corners need a smaller θx
-/// (0.1162 rad) than the middle of the x edges (0.1195 rad): from the corners alone the square of
-/// angles would stop ~5 mm short of x = ±175 mm at y = 0. Our nominal field: θ_max = 0.1195 rad
-/// in x, 0.1228 rad in y; the square's corners then reach x = ±180.2 mm, beyond the field.
-///
-/// Influence of defect δ_k (OPT eq. 7): I(θ) = h_δ(θ) − h(θ) with δ_k = 1 (mm or mrad) and the
-/// 29 others 0, both models traced (OpticalModel::trace), so nothing is linearised. Global shift
-/// I(0); non-linear part I(θ) − I(0), whose per-axis min/max and largest norm are over the grid
-/// and θ = 0 (so min ≤ 0 ≤ max always); max |I| likewise.
-///
-/// Measured (urdf/scanhead.urdf, default OpticsConfig, grid 21; test_influence_map.cpp asserts
-/// these, see the report there):
-///   source.y 1 mm: shift (+1.000, 0) mm, non-linear 0–29 µm (OPT Fig. 4: ≈ 1 mm, 0–0.12 mm)
-///   window rotations 1 mrad: max |I| = 1.07 µm, 1/895 of the median of the other rotations (0.96 mm)
-///   rotations: the least of the source/head ones 0.76 mm, the most of the work plane's 0.25 mm
-///   opt_table2 set: max displacement 265.5 µm, (111.9, 155.9) µm at the centre
-/// Cost: 31 models × 441 traces ≈ 14k traces, ~1 ms.
+/// \brief Influence of each assembly defect on the spot (SPEC §4, OPT eq. 7, Fig. 5 and 6). The
+/// angle grid's θ_max, the influence and its measured values are documented in influence_map.hpp.
 #include "scanhead/optics/influence_map.hpp"
 
 #include <algorithm>

@@ -130,7 +130,7 @@ Eigen::Vector2d optEquations(const OptParameters& p, double tx, double ty)
 
 TEST(NominalClosedForm, OptTranscriptionWithOurParametersMatchesTrace)
 {
-  // The parameter map of nominal_closed_form.cpp: positions in the source frame (our axes), except
+  // The parameter map of nominal_closed_form.hpp: positions in the source frame (our axes), except
   // Y_ax0 which must be the source's offset from axis X (S_y − A_x.y) for eq. 5 to hold.
   const OpticalGeometry g = geometryFromUrdfFile(kUrdfPath);
   const OpticsConfig config;

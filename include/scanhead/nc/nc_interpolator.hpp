@@ -7,7 +7,7 @@
 ///
 /// Fixed filters (the industrial NC): sample n is at t_n = n·Ts; X_inter(t_n) is the program's
 /// exact point; Q_inter = IGT(X_inter); Q_filt1 = box_T1(Q_inter); s = rate limit(Q_filt1);
-/// Q_filt2 = box_T2(s), with exact derivatives (nc_interpolator.cpp). Adaptive filters: the
+/// Q_filt2 = box_T2(s), with exact derivatives (see Derivatives below). Adaptive filters: the
 /// program's path is filtered in the work plane (adaptive_fir.hpp, delay D) and Q_filt2 =
 /// IGT(X_filt2), q̇ = J⁻¹ Ẋ, q̈ = J⁻¹ (Ẍ − J̇ q̇) (the curvature term: 0.05 % of the limits at
 /// 6 m/s, 1.8 % at 35 m/s).
@@ -15,6 +15,36 @@
 /// timeline, laser_gate.hpp; D = (T1 + T2)/2 with fixed filters so the shift is 0), times
 /// clamp(v / v_programmed, floor, 1) with v = |Ẋ_filt2| in power_mode "speed", or the plane speed of
 /// the actual path predicted by running the servo model on the setpoint in power_mode "predicted".
+///
+/// \par IGT
+/// OpticalModel::inverse (Newton on the ray trace, to its tolerance), warm-started from the
+/// linear extrapolation \f$2 q_{n-1} - q_{n-2}\f$ of the previous solutions (retried from q = 0 if
+/// that fails); a sample whose point equals the previous one reuses its solution (holds, the
+/// tail). Or the correction table (correction_table.hpp), which needs no guess.
+///
+/// \par Derivatives of Q_filt2 with fixed filters (the setpoint velocity and acceleration)
+/// - velocity: exact. Q_filt2(t) is the box mean over T2 of the piecewise-linear signal s(t)
+///   through the saturated samples, so
+///   \f[ \frac{dQ_{filt2}}{dt}(t_n) = \frac{s_n - s(t_n - T_2)}{T_2} \f]
+///   with s linearly interpolated at the fractional delay (BoxFilter::derivative). T2 = 0: the
+///   velocity of s below.
+/// - velocity of s (after the saturation): where the axis is not limited, the exact derivative
+///   of the FIR T1 output, \f$(q_n - q(t_n - T_1))/T_1\f$ (T1 = 0: backward difference of
+///   Q_inter, the left derivative of its linear interpolation); where limited,
+///   ±max_joint_speed_radps.
+/// - acceleration: the same exact box derivative applied to the velocity samples of s read as a
+///   piecewise-linear signal, \f$(\dot s_n - \dot s(t_n - T_2))/T_2\f$ (T2 = 0: backward
+///   difference of \f$\dot s\f$). This is the exact acceleration of box_T2(box_T1(Q_inter)) up to
+///   the linear interpolation of the T1 velocity between samples, which differs from the true
+///   (kinked) velocity only in the periods containing a kink (\f$O(T_s^2 a / T_2)\f$ on the
+///   integrated velocity); it reproduces the rectangle (T1) ⊗ box (T2) trapezoid of SPEC §2.3.
+///
+/// Q_filt1's acceleration (debug) is the same box derivative of the Q_inter velocity over T1.
+///
+/// \par Power ∝ speed
+/// The speed of the filtered path is taken in the work plane, by running the same box filters on
+/// X_inter (fixed) or from the adaptive filter: filtering in joint or task space gives the same
+/// path to < 0.1 µm (SPEC §2, NC §3), and the plane speed is what deposits energy.
 #pragma once
 
 #include <Eigen/Core>

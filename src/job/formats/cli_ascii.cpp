@@ -4,6 +4,7 @@
 
 #include "cli_internal.hpp"
 #include "cli_text.hpp"
+#include "scanhead/common/number_text.hpp"
 
 namespace scanhead
 {
@@ -22,7 +23,7 @@ struct Field
 /// \brief An integral count as digits (up to 1e18), else in exponent form.
 std::string countText(double n)
 {
-  return n >= 0.0 && n < 1e18 ? std::to_string(static_cast<long long>(n)) : numberText(n);
+  return n >= 0.0 && n < 1e18 ? std::to_string(static_cast<long long>(n)) : toCharsText(n);
 }
 
 std::string describe(const Field& f)
@@ -74,7 +75,7 @@ public:
         beginParameters();
         const double w = number(Field{ "power [W]" });
         if (!(w >= 0.0))
-          failAtLine(source_, line, "$$POWER: expected a power >= 0 W, got " + numberText(w));
+          failAtLine(source_, line, "$$POWER: expected a power >= 0 W, got " + toCharsText(w));
         endParameters();
         b_.setPower(w);
       }
@@ -83,7 +84,7 @@ public:
         beginParameters();
         const double v = number(Field{ "speed [mm/s]" });
         if (!(v * 1e-3 > 0.0))  // also rejects denormals that vanish in m/s
-          failAtLine(source_, line, "$$SPEED: expected a speed > 0 mm/s, got " + numberText(v));
+          failAtLine(source_, line, "$$SPEED: expected a speed > 0 mm/s, got " + toCharsText(v));
         endParameters();
         b_.setSpeed(v * 1e-3);
       }
@@ -150,7 +151,7 @@ private:
   {
     const double v = number(f);
     if (v != std::floor(v))
-      fail("expected an integer for " + describe(f) + ", got " + numberText(v));
+      fail("expected an integer for " + describe(f) + ", got " + toCharsText(v));
     return v;
   }
 
@@ -160,7 +161,7 @@ private:
   {
     const double n = integer(f);
     if (n < 0.0)
-      fail("expected " + describe(f) + " >= 0, got " + numberText(n));
+      fail("expected " + describe(f) + " >= 0, got " + toCharsText(n));
     const double left = static_cast<double>(c_.remaining());
     if (2.0 * static_cast<double>(numbers_per_item) * n > left + 1.0)
       fail(describe(f) + " = " + countText(n) + " needs " + countText(n * static_cast<double>(numbers_per_item)) +
@@ -193,7 +194,7 @@ private:
     integer(Field{ "id" });
     const double dir = integer(Field{ "dir" });
     if (dir < 0.0 || dir > 2.0)
-      fail("expected dir 0 (clockwise), 1 (counter-clockwise) or 2 (open), got " + numberText(dir));
+      fail("expected dir 0 (clockwise), 1 (counter-clockwise) or 2 (open), got " + toCharsText(dir));
     const std::size_t n = count(Field{ "point count n" }, 2);
     const bool keep = b_.active();
     if (keep)

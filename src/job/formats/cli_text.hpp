@@ -98,14 +98,6 @@ struct TextCursor
   std::string token(std::size_t max_chars = 24) const;
 };
 
-/// \brief \p v in the shortest form that reads back to it (for messages).
-inline std::string numberText(double v)
-{
-  char buf[32];
-  const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
 /// \brief Parses the number starting at \p p (optional '+', no leading space). On success
 /// returns the first byte after it, else nullptr. \p out_of_range is set for overflow.
 inline const char* readNumber(const char* p, const char* end, double& value, bool& out_of_range)

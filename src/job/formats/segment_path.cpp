@@ -107,18 +107,6 @@ bool startsWithMode(const std::string& word)
   return word.size() == 4 || isBlank(word[4]);  // the word "Mode", not "Modes"
 }
 
-/// Shortest text that reads back to \p v (as the file wrote it, e.g. -0.8 not -0.80000000000000004).
-std::string format(double v)
-{
-  char buffer[32];
-  for (int digits = 15; digits <= 17; ++digits)
-  {
-    std::snprintf(buffer, sizeof buffer, "%.*g", digits, v);
-    if (std::strtod(buffer, nullptr) == v)
-      break;
-  }
-  return buffer;
-}
 
 /// Shortened copy of a line for messages (a binary file may have huge "lines").
 std::string excerpt(const std::string& word)
@@ -199,15 +187,15 @@ public:
 
     const double mode = value[0];
     if (mode != 0.0 && mode != 1.0)
-      fail(line, "mode", format(mode) + " is not a known mode (expected 0: line, 1: spot)");
+      fail(line, "mode", shortestText(mode, 15) + " is not a known mode (expected 0: line, 1: spot)");
     const Eigen::Vector2d point(value[1] * options_.unit_m, value[2] * options_.unit_m);
     for (int axis = 0; axis < 2; ++axis)
       if (!std::isfinite(point[axis]))
-        fail(line, kFieldNames[1 + axis], format(value[1 + axis]) + " × unit " + format(options_.unit_m) +
-                                             " m is not a finite length");
+        fail(line, kFieldNames[1 + axis],
+             shortestText(value[1 + axis], 15) + " × unit " + shortestText(options_.unit_m, 15) + " m is not a finite length");
     const double coefficient = value[4];
     if (!(coefficient >= 0.0))
-      fail(line, power_field_, "must be >= 0 (got " + format(coefficient) + ")");
+      fail(line, power_field_, "must be >= 0 (got " + shortestText(coefficient, 15) + ")");
     const double param = value[5];
     ++rows_;
 
@@ -229,7 +217,7 @@ private:
   void spot(const Line& line, const Eigen::Vector2d& point, double coefficient, double dwell_s)
   {
     if (!(dwell_s >= 0.0))
-      fail(line, "param", "a spot's dwell time must be >= 0 s (got " + format(dwell_s) + ")");
+      fail(line, "param", "a spot's dwell time must be >= 0 s (got " + shortestText(dwell_s, 15) + ")");
     merging_ = false;
     has_point_ = true;
     current_ = point;
@@ -250,7 +238,7 @@ private:
     if (!has_point_)
       fail(line, "mode", "the first row must be a spot (mode 1): a line (mode 0) needs a start point");
     if (!(speed_mps > 0.0))
-      fail(line, "param", "a line's speed must be > 0 m/s (got " + format(speed_mps) + ")");
+      fail(line, "param", "a line's speed must be > 0 m/s (got " + shortestText(speed_mps, 15) + ")");
     const PolylineType type = coefficient > 0.0 ? PolylineType::Mark : PolylineType::Jump;
     const double power_w = coefficient > 0.0 ? coefficient * power_scale_w_ : 0.0;
     if (merging_)

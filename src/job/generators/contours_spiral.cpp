@@ -5,6 +5,7 @@
 #include "mark_jump_builder.hpp"
 #include "scanhead/common/config_check.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
 #include "scanhead/job/generators/scan_generators.hpp"
 
 namespace scanhead
@@ -94,9 +95,9 @@ Job contours(const Shape& shape, int count, double offset_m, const HatchStyle& s
     failSetting("contours.count", "in 1...10000", count);
   requireSetting(offset_m > 0.0, "contours.offset_m", "> 0", offset_m);
   MarkJumpBuilder out(style, "contours_" + shape.name,
-                 "generated " + std::to_string(count) + " contours " + generatorNumber(offset_m) + " m apart inside " +
-                     shape.source + ": mark " + generatorNumber(style.mark_speed_mps) + " m/s at " +
-                     generatorNumber(style.power_w) + " W, jump " + generatorNumber(style.jump_speed_mps) + " m/s");
+                 "generated " + std::to_string(count) + " contours " + significantText(offset_m, 12) + " m apart inside " +
+                     shape.source + ": mark " + significantText(style.mark_speed_mps, 12) + " m/s at " +
+                     significantText(style.power_w, 12) + " W, jump " + significantText(style.jump_speed_mps, 12) + " m/s");
   out.setRole(PolylineRole::Contour);
   for (int k = 1; k <= count; ++k)
   {
@@ -108,7 +109,7 @@ Job contours(const Shape& shape, int count, double offset_m, const HatchStyle& s
   }
   if (out.empty())
     throw InputError("contours of shape '" + shape.name + "': nothing left at the first offset of " +
-                     generatorNumber(offset_m) + " m (contours.offset_m larger than the shape's inradius)");
+                     significantText(offset_m, 12) + " m (contours.offset_m larger than the shape's inradius)");
   return out.take();
 }
 
@@ -119,9 +120,9 @@ Job spiral(const Shape& shape, const HatchStyle& style)
     throw InputError("shape '" + shape.name + "' (" + shape.source + ") has no ring to scan");
   const double h = style.spacing_m;
   MarkJumpBuilder out(style, "spiral_" + shape.name,
-                 "generated inward spiral of pitch " + generatorNumber(h) + " m inside " + shape.source + ": mark " +
-                     generatorNumber(style.mark_speed_mps) + " m/s at " + generatorNumber(style.power_w) +
-                     " W, jump " + generatorNumber(style.jump_speed_mps) + " m/s");
+                 "generated inward spiral of pitch " + significantText(h, 12) + " m inside " + shape.source + ": mark " +
+                     significantText(style.mark_speed_mps, 12) + " m/s at " + significantText(style.power_w, 12) +
+                     " W, jump " + significantText(style.jump_speed_mps, 12) + " m/s");
   if (isRectangle(shape))
   {
     out.mark(rectangularSpiral(shape.rings[0], h));
@@ -149,7 +150,7 @@ Job spiral(const Shape& shape, const HatchStyle& style)
   }
   if (out.empty())
     throw InputError("spiral of shape '" + shape.name + "': nothing left at the first offset of " +
-                     generatorNumber(0.5 * h) + " m (hatch.spacing_m larger than the shape)");
+                     significantText(0.5 * h, 12) + " m (hatch.spacing_m larger than the shape)");
   return out.take();
 }
 }  // namespace scanhead

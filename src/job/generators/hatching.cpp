@@ -6,6 +6,7 @@
 #include "mark_jump_builder.hpp"
 #include "scanhead/common/config_check.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
 #include "scanhead/job/generators/scan_generators.hpp"
 
 namespace scanhead
@@ -51,7 +52,7 @@ long lineCount(double extent_m, double spacing_m)
 {
   const double ratio = extent_m / spacing_m;
   if (!(ratio <= kMaxLines))
-    failSetting("hatch.spacing_m", "> extent / 1e6 = " + generatorNumber(extent_m / kMaxLines) + " m (at most 1e6 lines)",
+    failSetting("hatch.spacing_m", "> extent / 1e6 = " + significantText(extent_m / kMaxLines, 12) + " m (at most 1e6 lines)",
                 spacing_m);
   // 1e-9 relative: 10 mm / 100 µm must give 100 lines, not 99 by rounding of the ratio.
   return std::max(1L, static_cast<long>(std::floor(ratio * (1.0 + 1e-9))));
@@ -88,9 +89,9 @@ void emitHatch(MarkJumpBuilder& out, const ShapeClipper& shape, const Frame& fra
 
 std::string styleText(const HatchStyle& style)
 {
-  return "spacing " + generatorNumber(style.spacing_m) + " m, angle " + generatorNumber(style.angle_rad) + " rad, " +
-         (style.meander ? "meander" : "unidirectional raster") + ", mark " + generatorNumber(style.mark_speed_mps) +
-         " m/s at " + generatorNumber(style.power_w) + " W, jump " + generatorNumber(style.jump_speed_mps) + " m/s";
+  return "spacing " + significantText(style.spacing_m, 12) + " m, angle " + significantText(style.angle_rad, 12) + " rad, " +
+         (style.meander ? "meander" : "unidirectional raster") + ", mark " + significantText(style.mark_speed_mps, 12) +
+         " m/s at " + significantText(style.power_w, 12) + " W, jump " + significantText(style.jump_speed_mps, 12) + " m/s";
 }
 
 void requireShape(const Shape& shape)
@@ -148,7 +149,7 @@ Job stripes(const Shape& shape, const HatchStyle& style, double stripe_width_m)
     failSetting("hatch.stripe_width_m", "> extent / 1e6 (at most 1e6 stripes)", stripe_width_m);
   const long stripe_count = std::max(1L, static_cast<long>(stripe_count_real));
   MarkJumpBuilder out(style, std::string("stripes_") + (style.meander ? "meander" : "raster") + "_" + shape.name,
-                 "generated stripes of " + generatorNumber(stripe_width_m) + " m over " + shape.source + ": " +
+                 "generated stripes of " + significantText(stripe_width_m, 12) + " m over " + shape.source + ": " +
                      styleText(style));
   const ShapeClipper clipper(shape);
   for (long j = 0; j < stripe_count; ++j)
@@ -174,7 +175,7 @@ Job chessboard(const Shape& shape, const HatchStyle& style, double island_size_m
   const long nx = static_cast<long>(nx_real);
   const long ny = static_cast<long>(ny_real);
   MarkJumpBuilder out(style, std::string("chessboard_") + (style.meander ? "meander" : "raster") + "_" + shape.name,
-                 "generated chessboard of " + generatorNumber(island_size_m) + " m islands over " + shape.source +
+                 "generated chessboard of " + significantText(island_size_m, 12) + " m islands over " + shape.source +
                      ": " + styleText(style) + ", +90 deg on odd islands");
   const ShapeClipper clipper(shape);
   for (long j = 0; j < ny; ++j)
@@ -240,7 +241,7 @@ std::vector<Job> layers(const Shape& shape, const HatchStyle& style, int count, 
     layer_style.angle_rad = layerAngle(style.angle_rad, layer, rotation_rad);
     Job job = hatch(shape, layer_style);
     job.name += "_layer" + std::to_string(layer);
-    job.source += ", layer " + std::to_string(layer) + " (rotation " + generatorNumber(rotation_rad) + " rad per layer)";
+    job.source += ", layer " + std::to_string(layer) + " (rotation " + significantText(rotation_rad, 12) + " rad per layer)";
     out.push_back(std::move(job));
   }
   return out;

@@ -6,6 +6,7 @@
 #include "mark_jump_builder.hpp"
 #include "scanhead/common/config_check.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
 #include "scanhead/job/generators/scan_generators.hpp"
 
 namespace scanhead
@@ -53,9 +54,9 @@ Job hilbert(const Shape& shape, int order, const HatchStyle& style)
   const double cell = side / static_cast<double>(n);
   const std::uint64_t cells = static_cast<std::uint64_t>(n) * n;
   MarkJumpBuilder out(style, "hilbert" + std::to_string(order) + "_" + shape.name,
-                 "generated Hilbert curve of order " + std::to_string(order) + " (cell " + generatorNumber(cell) +
-                     " m) clipped to " + shape.source + ": mark " + generatorNumber(style.mark_speed_mps) + " m/s at " +
-                     generatorNumber(style.power_w) + " W, jump " + generatorNumber(style.jump_speed_mps) + " m/s");
+                 "generated Hilbert curve of order " + std::to_string(order) + " (cell " + significantText(cell, 12) +
+                     " m) clipped to " + shape.source + ": mark " + significantText(style.mark_speed_mps, 12) + " m/s at " +
+                     significantText(style.power_w, 12) + " W, jump " + significantText(style.jump_speed_mps, 12) + " m/s");
   auto centre = [&](std::uint64_t d) -> Eigen::Vector2d {
     std::uint32_t x = 0, y = 0;
     hilbertCell(n, d, x, y);
@@ -83,7 +84,7 @@ Job hilbert(const Shape& shape, int order, const HatchStyle& style)
   out.mark(run);
   if (out.empty())
     throw InputError("hilbert curve of order " + std::to_string(order) + " misses shape '" + shape.name +
-                     "' (cells of " + generatorNumber(cell) + " m; raise hilbert.order)");
+                     "' (cells of " + significantText(cell, 12) + " m; raise hilbert.order)");
   return out.take();
 }
 }  // namespace scanhead

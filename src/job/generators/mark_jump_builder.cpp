@@ -1,7 +1,5 @@
 #include "mark_jump_builder.hpp"
 
-#include <sstream>
-
 namespace scanhead
 {
 MarkJumpBuilder::MarkJumpBuilder(const HatchStyle& style, std::string name, std::string source)
@@ -47,13 +45,5 @@ void MarkJumpBuilder::mark(const Eigen::Vector2d& from, const Eigen::Vector2d& t
   if ((to - from).norm() < kMinMarkLength_m)
     return;
   mark(std::vector<Eigen::Vector2d>{from, to});
-}
-
-std::string generatorNumber(double value)
-{
-  std::ostringstream out;
-  out.precision(12);
-  out << value;
-  return out.str();
 }
 }  // namespace scanhead

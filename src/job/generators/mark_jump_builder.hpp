@@ -40,7 +40,4 @@ private:
   PolylineRole role_ = PolylineRole::Hatch;
   std::vector<Eigen::Vector2d> scratch_;
 };
-
-/// \brief Shortest decimal text of a number (for job sources).
-std::string generatorNumber(double value);
 }  // namespace scanhead

@@ -11,6 +11,7 @@
 
 #include "scanhead/common/box_filter.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
 #include "scanhead/servo/galvo_servo.hpp"
 
 namespace scanhead
@@ -34,13 +35,6 @@ struct Command
 std::size_t samplesFor(double duration_s, double period_s)
 {
   return static_cast<std::size_t>(std::ceil(duration_s / period_s - 1e-9));
-}
-
-std::string degText(double v)
-{
-  std::ostringstream s;
-  s << v;
-  return s.str();
 }
 
 /// Mean of x over [a, b).
@@ -102,11 +96,12 @@ Km0Signal makeKm0Signal(const Km0SignalConfig& config, double period_s)
 {
   config.validate();
   if (!(period_s > 0.0) || !std::isfinite(period_s))
-    throw ConfigError("km0 period_s must be > 0 (got " + degText(period_s) + ")");
+    throw ConfigError("km0 period_s must be > 0 (got " + sixDigitText(period_s) + ")");
   const double centre = 0.5 * (config.joint_lower_rad + config.joint_upper_rad);
   const double half = 0.5 * (config.joint_upper_rad - config.joint_lower_rad) - config.range_margin_deg * kRadPerDeg;
   if (!(half > 0.0))
-    throw ConfigError("km0.signal.range_margin_deg leaves no usable range (got " + degText(config.range_margin_deg) + ")");
+    throw ConfigError("km0.signal.range_margin_deg leaves no usable range (got " +
+                      sixDigitText(config.range_margin_deg) + ")");
   const double filters_s = config.fir_t1_s + config.fir_t2_s;
   const double vmax = config.max_speed_radps;
 
@@ -121,7 +116,7 @@ Km0Signal makeKm0Signal(const Km0SignalConfig& config, double period_s)
   {
     const double a = a_deg * kRadPerDeg;
     if (std::abs(a) > half)
-      throw ConfigError("km0.signal.small_steps_deg: " + degText(a_deg) + " leaves the joint range");
+      throw ConfigError("km0.signal.small_steps_deg: " + sixDigitText(a_deg) + " leaves the joint range");
     stepTo(Km0PhaseKind::SmallStep, centre + a);
     stepTo(Km0PhaseKind::SmallStep, centre);
   }
@@ -129,7 +124,7 @@ Km0Signal makeKm0Signal(const Km0SignalConfig& config, double period_s)
   {
     const double a = a_deg * kRadPerDeg;
     if (0.5 * std::abs(a) > half)
-      throw ConfigError("km0.signal.large_steps_deg: " + degText(a_deg) + " leaves the joint range");
+      throw ConfigError("km0.signal.large_steps_deg: " + sixDigitText(a_deg) + " leaves the joint range");
     stepTo(Km0PhaseKind::Positioning, centre - 0.5 * a);
     stepTo(Km0PhaseKind::LargeStep, centre + 0.5 * a);
     stepTo(Km0PhaseKind::LargeStep, centre - 0.5 * a);
@@ -137,12 +132,13 @@ Km0Signal makeKm0Signal(const Km0SignalConfig& config, double period_s)
   for (double v : config.ramp_speeds_radps)
   {
     if (v > vmax)
-      throw ConfigError("km0.signal.ramp_speeds_radps: " + degText(v) + " exceeds max_speed_radps " + degText(vmax));
+      throw ConfigError("km0.signal.ramp_speeds_radps: " + sixDigitText(v) + " exceeds max_speed_radps " +
+                        sixDigitText(vmax));
     const double amplitude = std::min(2.0 * half, v * config.ramp_duration_s);
     if (amplitude / v < config.min_ramp_duration_s)
     {
-      throw ConfigError("km0.signal.ramp_speeds_radps: at " + degText(v) + " rad/s the range allows a ramp of " +
-                        degText(amplitude / v) + " s < min_ramp_duration_s");
+      throw ConfigError("km0.signal.ramp_speeds_radps: at " + sixDigitText(v) + " rad/s the range allows a ramp of " +
+                        sixDigitText(amplitude / v) + " s < min_ramp_duration_s");
     }
     stepTo(Km0PhaseKind::Positioning, centre - 0.5 * amplitude);
     for (double to : {centre + 0.5 * amplitude, centre - 0.5 * amplitude})
@@ -336,7 +332,7 @@ std::size_t rampEndIndex(const Km0Signal& signal, const Km0Phase& phase)
       return k;
   }
   throw InputError("rampEndIndex: the ramp phase at sample " + std::to_string(phase.begin) +
-                   " never reaches its speed " + degText(v) + " rad/s");
+                   " never reaches its speed " + sixDigitText(v) + " rad/s");
 }
 
 Km0RampMetrics measureRamp(const std::vector<double>& sp, const std::vector<double>& x,

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
 #include "scanhead/servo/galvo_servo.hpp"
 
 namespace scanhead
@@ -23,16 +24,14 @@ namespace
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegPerRad = 180.0 / kPi;
 
-/// A number for YAML/CSV: 9 significant digits, NaN as .nan (YAML) or nan (CSV).
+/// A number for YAML/CSV: 9 significant digits ("%.9g"), NaN as .nan (YAML) or nan (CSV).
 std::string num(double v, bool yaml = true)
 {
   if (std::isnan(v))
     return yaml ? ".nan" : "nan";
   if (std::isinf(v))
     return v > 0 ? (yaml ? ".inf" : "inf") : (yaml ? "-.inf" : "-inf");
-  char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.9g", v);
-  std::string text = buffer;
+  std::string text = significantText(v, 9);
   // YAML 1.1 readers (PyYAML) take "2e-06" for a string: write "2.0e-06".
   const std::size_t e = text.find('e');
   if (yaml && e != std::string::npos && text.find('.') == std::string::npos)

@@ -58,7 +58,7 @@ struct Km0Signal
 /// lasts |Δ|/max_speed + T1 + T2 + step_hold_s (the steady window is the last half of
 /// step_hold_s), a ramp phase a/v + T1 + T2 + ramp_hold_s. Every move is filtered as by
 /// the NC: box T1, velocity saturation (max_speed_radps, or v in a ramp), box T2 (SPEC §2; the
-/// derivatives as in nc_interpolator.cpp).
+/// derivatives as in nc_interpolator.hpp).
 /// \throws ConfigError if the config is invalid, a step leaves the range, a ramp speed exceeds
 /// max_speed_radps or its constant-speed part would be shorter than min_ramp_duration_s
 Km0Signal makeKm0Signal(const Km0SignalConfig& config, double period_s);
