@@ -2,8 +2,8 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -224,11 +224,26 @@ void parseValue(const std::string&, const ConfigValue& v, std::string& out)
   out = v.text;
 }
 
-std::string formatValue(double v) { return fullPrecisionText(v); }
-std::string formatValue(std::size_t v) { return std::to_string(v); }
-std::string formatValue(int v) { return std::to_string(v); }
-std::string formatValue(bool v) { return v ? "true" : "false"; }
-std::string formatValue(const std::string& v) { return "\"" + v + "\""; }
+std::string formatValue(double v)
+{
+  return fullPrecisionText(v);
+}
+std::string formatValue(std::size_t v)
+{
+  return std::to_string(v);
+}
+std::string formatValue(int v)
+{
+  return std::to_string(v);
+}
+std::string formatValue(bool v)
+{
+  return v ? "true" : "false";
+}
+std::string formatValue(const std::string& v)
+{
+  return "\"" + v + "\"";
+}
 
 void flattenNode(const YAML::Node& node, const std::string& prefix, const std::string& source, FlatConfig& out)
 {

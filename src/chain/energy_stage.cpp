@@ -11,7 +11,7 @@ namespace scanhead
 {
 namespace
 {
-constexpr std::size_t kMaxTraceRows = 20000;  // plots need no more; bounds memory on long jobs
+constexpr std::size_t kMaxTraceRows = 20000;       // plots need no more; bounds memory on long jobs
 constexpr std::size_t kParallelChunkSamples = 64;  // smaller chunks run their trackers inline
 
 EnergyAccumulator makeAccumulator(const ChainConfig& config, const Job& job)

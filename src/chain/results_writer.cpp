@@ -1,18 +1,18 @@
+#include "scanhead/chain/results_writer.hpp"
 #include "scanhead/common/number_text.hpp"
 #include "scanhead/common/text_file.hpp"
-#include "scanhead/chain/results_writer.hpp"
 
 #include <filesystem>
 #include <system_error>
 
-#include "scanhead/report/energy_exports.hpp"
-#include "scanhead/report/thermal_images.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/job/formats/job_io.hpp"
-#include "scanhead/report/job_picture.hpp"
 #include "scanhead/job/job_stats.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
+#include "scanhead/report/energy_exports.hpp"
+#include "scanhead/report/job_picture.hpp"
+#include "scanhead/report/thermal_images.hpp"
 
 namespace scanhead
 {

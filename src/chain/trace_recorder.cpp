@@ -41,8 +41,8 @@ std::string TraceRecorder::csv(double period_s) const
   for (const TraceRow& r : rows_)
   {
     std::snprintf(line, sizeof line, "%.9g,%.12g,%.12g,%.12g,%.12g,%.9g,%.9g,%.6g\n",
-                  static_cast<double>(r.index) * period_s, r.spot.setpoint.x(), r.spot.setpoint.y(),
-                  r.spot.actual.x(), r.spot.actual.y(), r.setpoint_speed_mps, r.actual_speed_mps, r.spot.power_w);
+                  static_cast<double>(r.index) * period_s, r.spot.setpoint.x(), r.spot.setpoint.y(), r.spot.actual.x(),
+                  r.spot.actual.y(), r.setpoint_speed_mps, r.actual_speed_mps, r.spot.power_w);
     out += line;
   }
   return out;

@@ -11,7 +11,8 @@
 namespace scanhead
 {
 template <int N>
-BoxFilter<N>::BoxFilter() : BoxFilter(0.0, 1e-5)
+BoxFilter<N>::BoxFilter()
+  : BoxFilter(0.0, 1e-5)
 {
 }
 
@@ -21,8 +22,8 @@ BoxFilter<N>::BoxFilter(double duration_s, double period_s)
   if (!(std::isfinite(duration_s) && duration_s >= 0.0) || !(std::isfinite(period_s) && period_s > 0.0))
   {
     std::ostringstream msg;
-    msg << "BoxFilter: duration must be >= 0 and period > 0 (got duration " << duration_s << " s, period "
-        << period_s << " s)";
+    msg << "BoxFilter: duration must be >= 0 and period > 0 (got duration " << duration_s << " s, period " << period_s
+        << " s)";
     throw ConfigError(msg.str());
   }
   period_s_ = period_s;

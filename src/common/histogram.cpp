@@ -19,7 +19,11 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 }  // namespace
 
 Histogram::Histogram(double lo, double hi, int bins)
-  : lo_(lo), hi_(hi), span_(hi - lo), min_(kNaN), max_(kNaN)
+  : lo_(lo)
+  , hi_(hi)
+  , span_(hi - lo)
+  , min_(kNaN)
+  , max_(kNaN)
 {
   if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi) || !std::isfinite(span_))
   {
@@ -28,8 +32,8 @@ Histogram::Histogram(double lo, double hi, int bins)
   }
   if (bins < 1 || bins > kMaxBins)
   {
-    throw ConfigError("histogram: bins must be in 1 .. " + std::to_string(kMaxBins) + " (got " +
-                      std::to_string(bins) + ")");
+    throw ConfigError("histogram: bins must be in 1 .. " + std::to_string(kMaxBins) + " (got " + std::to_string(bins) +
+                      ")");
   }
   counts_.assign(static_cast<std::size_t>(bins), 0);
   for (int i = 0; i < bins; ++i)
@@ -154,10 +158,10 @@ std::vector<Histogram::Segment> Histogram::segments() const
 {
   std::vector<Segment> s;
   s.reserve(counts_.size() + 2);
-  s.push_back({ min_, lo_, underflow_ });
+  s.push_back({min_, lo_, underflow_});
   for (int i = 0; i < bins(); ++i)
-    s.push_back({ binEdge(i), binEdge(i + 1), counts_[static_cast<std::size_t>(i)] });
-  s.push_back({ hi_, max_, overflow_ });
+    s.push_back({binEdge(i), binEdge(i + 1), counts_[static_cast<std::size_t>(i)]});
+  s.push_back({hi_, max_, overflow_});
   return s;
 }
 

@@ -13,7 +13,7 @@ namespace scanhead
 {
 namespace
 {
-constexpr double kMaxSubsteps = 1.0e8;  // a longer segment is garbage, not a path
+constexpr double kMaxSubsteps = 1.0e8;       // a longer segment is garbage, not a path
 constexpr double kMaxStencilRadius = 1.0e4;  // pixels: a footprint this large is a configuration error
 
 /// \brief 1-D Gaussian weights g[k] = exp(-a·d_k²), d_k = d_centre + (k − H)·p, k = 0..n−1 (n > H).
@@ -91,15 +91,15 @@ const EnergyConfig& validated(const EnergyConfig& config)
 
 EnergyAccumulator::EnergyAccumulator(const EnergyConfig& config, const Eigen::Vector2d& min_corner,
                                      const Eigen::Vector2d& max_corner)
-  : config_(validated(config)), map_(min_corner, max_corner, config.pixel_m, config.tile_cache_bytes, config.spill_dir)
+  : config_(validated(config))
+  , map_(min_corner, max_corner, config.pixel_m, config.tile_cache_bytes, config.spill_dir)
 {
   // The stencil of the nominal spot must be drawable (a larger one from defocus is checked per sample).
   const double rs = config_.truncation_radii * 0.5 * config_.spot_diameter_m / config_.pixel_m;
   if (rs > kMaxStencilRadius)
   {
     std::ostringstream msg;
-    msg << "energy.pixel_m = " << config_.pixel_m << " m is too fine for the spot (stencil radius " << rs
-        << " pixels)";
+    msg << "energy.pixel_m = " << config_.pixel_m << " m is too fine for the spot (stencil radius " << rs << " pixels)";
     throw ConfigError(msg.str());
   }
 }
@@ -152,8 +152,8 @@ void EnergyAccumulator::deposit(const SpotSample& from_sample, const Eigen::Vect
   if (!from.allFinite() || !std::isfinite(length))
   {
     std::ostringstream msg;
-    msg << "energy: non-finite spot position (" << from.x() << ", " << from.y() << ") -> (" << to.x() << ", "
-        << to.y() << ") m while the laser is on";
+    msg << "energy: non-finite spot position (" << from.x() << ", " << from.y() << ") -> (" << to.x() << ", " << to.y()
+        << ") m while the laser is on";
     throw NumericalError(msg.str());
   }
   const SpotFootprint fp = spotFootprint(config_, from_sample.direction);
@@ -188,8 +188,8 @@ void EnergyAccumulator::depositPoint(double cx, double cy, double energy_j, cons
   if (rs > kMaxStencilRadius)
   {
     std::ostringstream msg;
-    msg << "energy: the footprint (radius " << fp.major_radius_m << " m, defocus " << fp.defocus_m
-        << " m) spans " << rs << " pixels of energy.pixel_m = " << p << " m: raise energy.pixel_m";
+    msg << "energy: the footprint (radius " << fp.major_radius_m << " m, defocus " << fp.defocus_m << " m) spans " << rs
+        << " pixels of energy.pixel_m = " << p << " m: raise energy.pixel_m";
     throw ConfigError(msg.str());
   }
   const int h = static_cast<int>(std::floor(rs));
@@ -249,7 +249,8 @@ void EnergyAccumulator::depositPoint(double cx, double cy, double energy_j, cons
     prefix_[0] = 0.0;
     for (int k = 0; k < cols; ++k)
     {
-      prefix_[static_cast<std::size_t>(k) + 1] = prefix_[static_cast<std::size_t>(k)] + gx_[static_cast<std::size_t>(k)];
+      prefix_[static_cast<std::size_t>(k) + 1] =
+          prefix_[static_cast<std::size_t>(k)] + gx_[static_cast<std::size_t>(k)];
       gxf_[static_cast<std::size_t>(k)] = static_cast<float>(gx_[static_cast<std::size_t>(k)]);
     }
     for (int t = 0; t < rows; ++t)
@@ -257,7 +258,8 @@ void EnergyAccumulator::depositPoint(double cx, double cy, double energy_j, cons
       int lo = 0, hi = 0;
       row_span(t, lo, hi);
       row_sum_[static_cast<std::size_t>(t)] =
-          gy_[static_cast<std::size_t>(t)] * (prefix_[static_cast<std::size_t>(hi) + 1] - prefix_[static_cast<std::size_t>(lo)]);
+          gy_[static_cast<std::size_t>(t)] *
+          (prefix_[static_cast<std::size_t>(hi) + 1] - prefix_[static_cast<std::size_t>(lo)]);
       total += row_sum_[static_cast<std::size_t>(t)];
     }
   }

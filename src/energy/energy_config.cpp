@@ -6,8 +6,8 @@
 #include <string>
 
 #include "scanhead/common/config_check.hpp"
-#include "scanhead/energy/map_regions.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/energy/map_regions.hpp"
 
 namespace scanhead
 {
@@ -20,7 +20,7 @@ void EnergyConfig::validate() const
   requireSetting(truncation_radii >= 1.0, "energy.truncation_radii", ">= 1", truncation_radii);
   requireSetting(map_margin_m >= 0.0, "energy.map_margin_m", ">= 0", map_margin_m);
   requireSetting(corner_min_angle_deg >= 0.0 && corner_min_angle_deg < 180.0, "energy.corner_min_angle_deg",
-          "in [0, 180)", corner_min_angle_deg);
+                 "in [0, 180)", corner_min_angle_deg);
   requireSetting(laser_path_tolerance_m > 0.0, "energy.laser_path_tolerance_m", "> 0", laser_path_tolerance_m);
   requireSetting(track_exclude_ends_m >= 0.0, "energy.track_exclude_ends_m", ">= 0", track_exclude_ends_m);
   requireSetting(track_max_samples >= 1, "energy.track_max_samples", ">= 1", static_cast<double>(track_max_samples));

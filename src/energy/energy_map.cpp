@@ -28,7 +28,7 @@ void axpyRow(float* y, const float* x, float c, int n)
 #if defined(__GNUC__)
 #if defined(__AVX__)
   typedef float Vec8 __attribute__((vector_size(32)));
-  const Vec8 cv8 = { c, c, c, c, c, c, c, c };
+  const Vec8 cv8 = {c, c, c, c, c, c, c, c};
   for (; k + 8 <= n; k += 8)
   {
     Vec8 xv, yv;
@@ -40,7 +40,7 @@ void axpyRow(float* y, const float* x, float c, int n)
 #endif
   // 16-byte vectors: native on SSE2 / NEON (32-byte ones are split and spilled without AVX).
   typedef float Vec4 __attribute__((vector_size(16)));
-  const Vec4 cv = { c, c, c, c };
+  const Vec4 cv = {c, c, c, c};
   for (; k + 4 <= n; k += 4)
   {
     Vec4 xv, yv;
@@ -72,8 +72,8 @@ void checkMapGeometry(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& 
   if (!min_corner.allFinite() || !max_corner.allFinite() || (max_corner.array() < min_corner.array()).any())
   {
     std::ostringstream msg;
-    msg << "energy map bounds must be finite with max >= min (got min (" << min_corner.x() << ", "
-        << min_corner.y() << ") m, max (" << max_corner.x() << ", " << max_corner.y() << ") m)";
+    msg << "energy map bounds must be finite with max >= min (got min (" << min_corner.x() << ", " << min_corner.y()
+        << ") m, max (" << max_corner.x() << ", " << max_corner.y() << ") m)";
     throw InputError(msg.str());
   }
 }
@@ -82,7 +82,10 @@ void checkMapGeometry(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& 
 // EnergyMap
 
 EnergyMap::EnergyMap(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m)
-  : origin_(min_corner), pixel_(pixel_m), width_(0), height_(0)
+  : origin_(min_corner)
+  , pixel_(pixel_m)
+  , width_(0)
+  , height_(0)
 {
   checkMapGeometry(min_corner, max_corner, pixel_m);
   const double w = pixelsAcross(max_corner.x() - min_corner.x(), pixel_m);

@@ -30,7 +30,9 @@ std::string ioError(const std::string& what, const std::string& dir)
 
 TiledEnergyMap::TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double pixel_m,
                                std::size_t cache_bytes, std::string spill_dir)
-  : origin_(min_corner), pixel_(pixel_m), spill_dir_(std::move(spill_dir))
+  : origin_(min_corner)
+  , pixel_(pixel_m)
+  , spill_dir_(std::move(spill_dir))
 {
   checkMapGeometry(min_corner, max_corner, pixel_m);
   const double extent = std::max(max_corner.x() - min_corner.x(), max_corner.y() - min_corner.y());
@@ -327,8 +329,7 @@ void TiledEnergyMap::clear()
   summary_valid_ = false;
 }
 
-EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int64_t w, std::int64_t h,
-                                 int factor) const
+EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int64_t w, std::int64_t h, int factor) const
 {
   const std::int64_t c0 = std::clamp<std::int64_t>(col0, 0, std::max<std::int64_t>(0, width_ - 1));
   const std::int64_t r0 = std::clamp<std::int64_t>(row0, 0, std::max<std::int64_t>(0, height_ - 1));
@@ -361,7 +362,8 @@ EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int6
   const double inv = 1.0 / static_cast<double>(f * f);
   for (int r = 0; r < out.height(); ++r)
     for (int c = 0; c < out.width(); ++c)
-      out.row(r)[c] = static_cast<float>(sum[static_cast<std::size_t>(r) * static_cast<std::size_t>(out.width()) + c] * inv);
+      out.row(r)[c] =
+          static_cast<float>(sum[static_cast<std::size_t>(r) * static_cast<std::size_t>(out.width()) + c] * inv);
   return out;
 }
 

@@ -101,8 +101,8 @@ TrackEnergyProfile profileOn(const Map& map, const std::vector<SpotSample>& spot
     if (!s.actual.allFinite())
     {
       std::ostringstream msg;
-      msg << "track energy: non-finite actual spot (" << s.actual.x() << ", " << s.actual.y() << ") m at sample "
-          << k << " while the laser is on";
+      msg << "track energy: non-finite actual spot (" << s.actual.x() << ", " << s.actual.y() << ") m at sample " << k
+          << " while the laser is on";
       throw NumericalError(msg.str());
     }
     if (previous_on)
@@ -137,8 +137,8 @@ TrackEnergyProfile profileOn(const Map& map, const std::vector<SpotSample>& spot
     for (std::size_t q = first; q <= last; ++q)
     {
       const double s = out.arc_m[q];
-      const bool interior = track_ends ? !nearAnEnd(*where[q], ends_by_x, exclude_ends_m) :
-                                         (s - arc_first > exclude_ends_m && arc_last - s > exclude_ends_m);
+      const bool interior = track_ends ? !nearAnEnd(*where[q], ends_by_x, exclude_ends_m)
+                                       : (s - arc_first > exclude_ends_m && arc_last - s > exclude_ends_m);
       if (interior)
       {
         out.interior[q] = 1;
@@ -179,8 +179,8 @@ TrackEnergyProfile profileOn(const Map& map, const std::vector<SpotSample>& spot
 }
 }  // namespace
 
-TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<SpotSample>& spots,
-                                      double exclude_ends_m, const std::vector<Eigen::Vector2d>* track_ends)
+TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<SpotSample>& spots, double exclude_ends_m,
+                                      const std::vector<Eigen::Vector2d>* track_ends)
 {
   return profileOn(map, spots, exclude_ends_m, track_ends);
 }
@@ -197,8 +197,10 @@ double peakNear(const TiledEnergyMap& map, const Eigen::Vector2d& point, double 
   const double u = (point.x() - map.origin().x()) / p, v = (point.y() - map.origin().y()) / p;
   const double r = radius_m / p;
   double peak = map.at(static_cast<std::int64_t>(std::floor(u)), static_cast<std::int64_t>(std::floor(v)));
-  for (auto row = static_cast<std::int64_t>(std::floor(v - r - 0.5)); row <= static_cast<std::int64_t>(std::ceil(v + r)); ++row)
-    for (auto col = static_cast<std::int64_t>(std::floor(u - r - 0.5)); col <= static_cast<std::int64_t>(std::ceil(u + r)); ++col)
+  for (auto row = static_cast<std::int64_t>(std::floor(v - r - 0.5));
+       row <= static_cast<std::int64_t>(std::ceil(v + r)); ++row)
+    for (auto col = static_cast<std::int64_t>(std::floor(u - r - 0.5));
+         col <= static_cast<std::int64_t>(std::ceil(u + r)); ++col)
     {
       const double dx = static_cast<double>(col) + 0.5 - u, dy = static_cast<double>(row) + 0.5 - v;
       if (dx * dx + dy * dy <= r * r)

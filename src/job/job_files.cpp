@@ -3,11 +3,11 @@
 #include <fstream>
 #include <iterator>
 
-#include "scanhead/job/generators/builtin_jobs.hpp"
-#include "scanhead/job/formats/cli_format.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/job/formats/cli_format.hpp"
 #include "scanhead/job/formats/job_io.hpp"
 #include "scanhead/job/formats/segment_path.hpp"
+#include "scanhead/job/generators/builtin_jobs.hpp"
 
 namespace scanhead
 {

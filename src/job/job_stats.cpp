@@ -204,8 +204,7 @@ std::string jobStatsYaml(const JobStats& s)
     {
       out << "  - {group: " << g.group << ", time_s: " << num(g.time_s) << ", mark_time_s: " << num(g.mark_time_s)
           << ", jump_time_s: " << num(g.jump_time_s) << ", dwell_time_s: " << num(g.dwell_time_s)
-          << ", mark_length_m: " << num(g.mark_length_m)
-          << ", jump_length_m: " << num(g.jump_length_m) << "}\n";
+          << ", mark_length_m: " << num(g.mark_length_m) << ", jump_length_m: " << num(g.jump_length_m) << "}\n";
     }
   }
   return out.str();

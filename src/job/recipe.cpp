@@ -118,8 +118,8 @@ Job applyRecipe(const Job& job, const Recipe& recipe)
       continue;
     }
     // A jump between two contour marks: its immediate neighbours in the job, both MARK Contour.
-    const bool contour_jump =
-        p > 0 && p + 1 < out.polylines.size() && isContourMark(job.polylines[p - 1]) && isContourMark(job.polylines[p + 1]);
+    const bool contour_jump = p > 0 && p + 1 < out.polylines.size() && isContourMark(job.polylines[p - 1]) &&
+                              isContourMark(job.polylines[p + 1]);
     line.speed_mps = contour_jump ? recipe.contour_jump_speed_mps : recipe.jump_speed_mps;
   }
   return out;

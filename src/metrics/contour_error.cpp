@@ -106,7 +106,8 @@ std::uint64_t ContourErrorStats::countUnder(double limit_m) const
   if (!(std::abs(bins - whole) <= 1e-9) || whole < 0.0 || whole > static_cast<double>(kBins))
   {
     throw InputError("contour error: limit " + fullPrecisionText(limit_m) + " m is not a multiple of the " +
-                     fullPrecisionText(kBinWidth_m) + " m bin in [0, " + fullPrecisionText(kBins * kBinWidth_m) + "] m");
+                     fullPrecisionText(kBinWidth_m) + " m bin in [0, " + fullPrecisionText(kBins * kBinWidth_m) +
+                     "] m");
   }
   std::uint64_t n = 0;
   for (std::size_t b = 0; b < static_cast<std::size_t>(whole); ++b)
@@ -134,8 +135,8 @@ double ContourErrorStats::quantileUpperBound(double fraction) const
     throw InputError("contour error: quantile fraction " + fullPrecisionText(fraction) + " is outside [0, 1]");
   if (count_ == 0)
     return std::numeric_limits<double>::quiet_NaN();
-  const auto rank = std::max<std::uint64_t>(
-      1, static_cast<std::uint64_t>(std::ceil(fraction * static_cast<double>(count_))));
+  const auto rank =
+      std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::ceil(fraction * static_cast<double>(count_))));
   std::uint64_t seen = 0;
   for (std::size_t b = 0; b < kBins; ++b)
   {

@@ -21,14 +21,14 @@ namespace
 // [c, c+1] × [r, r+1] and the spot radius is exactly 0.5.
 constexpr double kRadius = 0.5;
 constexpr double kRadius2 = kRadius * kRadius;
-constexpr double kSubStep = 0.5 * kRadius;   // sub-segments of at most w/2: at most 3 × 3 candidate cells
+constexpr double kSubStep = 0.5 * kRadius;  // sub-segments of at most w/2: at most 3 × 3 candidate cells
 constexpr double kMaxCells = 2147483648.0;  // 2^31 cells = 512 MiB of bits
 constexpr double kMaxSide = 2147483647.0;   // a side must fit an int
 
 double pointBoxDistance2(const Eigen::Vector2d& p, double x0, double y0)
 {
-  const double dx = std::max({ x0 - p.x(), 0.0, p.x() - (x0 + 1.0) });
-  const double dy = std::max({ y0 - p.y(), 0.0, p.y() - (y0 + 1.0) });
+  const double dx = std::max({x0 - p.x(), 0.0, p.x() - (x0 + 1.0)});
+  const double dy = std::max({y0 - p.y(), 0.0, p.y() - (y0 + 1.0)});
   return dx * dx + dy * dy;
 }
 
@@ -47,8 +47,8 @@ bool clipToBox(Eigen::Vector2d& a, Eigen::Vector2d& b, const Eigen::Vector2d& lo
   double t0 = 0.0, t1 = 1.0;
   for (int axis = 0; axis < 2; ++axis)
   {
-    const double p[2] = { -d[axis], d[axis] };
-    const double q[2] = { a[axis] - lo[axis], hi[axis] - a[axis] };
+    const double p[2] = {-d[axis], d[axis]};
+    const double q[2] = {a[axis] - lo[axis], hi[axis] - a[axis]};
     for (int k = 0; k < 2; ++k)
     {
       if (p[k] == 0.0)
@@ -95,9 +95,9 @@ double segmentBoxDistance2(const Eigen::Vector2d& a, const Eigen::Vector2d& b, d
 }
 }  // namespace
 
-FillRateGrid::FillRateGrid(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner,
-                           double spot_diameter_m)
-  : origin_(min_corner), pitch_(spot_diameter_m)
+FillRateGrid::FillRateGrid(const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner, double spot_diameter_m)
+  : origin_(min_corner)
+  , pitch_(spot_diameter_m)
 {
   if (!(spot_diameter_m > 0.0) || !std::isfinite(spot_diameter_m))
   {
@@ -116,7 +116,8 @@ FillRateGrid::FillRateGrid(const Eigen::Vector2d& min_corner, const Eigen::Vecto
   {
     std::ostringstream msg;
     msg << "fill rate: a spot diameter of " << fullPrecisionText(spot_diameter_m) << " m over " << pointText(min_corner)
-        << " .. " << pointText(max_corner) << " m gives " << w << " x " << h << " cells (limit 2^31 cells, 2^31 - 1 a side)";
+        << " .. " << pointText(max_corner) << " m gives " << w << " x " << h
+        << " cells (limit 2^31 cells, 2^31 - 1 a side)";
     throw ConfigError(msg.str());
   }
   width_ = static_cast<int>(w);

@@ -14,8 +14,8 @@ namespace scanhead
 {
 namespace
 {
-constexpr double kMinCellM = 1e-3;        ///< smallest cell side [m] (bounds the cell count)
-constexpr double kMaxCells = 4194304.0;   ///< 2^22 cells at most (32 MiB of cell starts)
+constexpr double kMinCellM = 1e-3;       ///< smallest cell side [m] (bounds the cell count)
+constexpr double kMaxCells = 4194304.0;  ///< 2^22 cells at most (32 MiB of cell starts)
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// \brief Squared distance from (px, py) to the segment a + t·d, t ∈ [0, 1].
@@ -44,7 +44,8 @@ inline bool clip(double lo, double hi, long n, long& a, long& b)
 }
 }  // namespace
 
-LaserPlacement::LaserPlacement(const Job& job, double tolerance_m) : tolerance_m_(tolerance_m)
+LaserPlacement::LaserPlacement(const Job& job, double tolerance_m)
+  : tolerance_m_(tolerance_m)
 {
   requireSetting(tolerance_m > 0.0, "laser_placement.tolerance_m", "> 0", tolerance_m);
 
@@ -180,7 +181,8 @@ LaserPlacement::LaserPlacement(const Job& job, double tolerance_m) : tolerance_m
   std::vector<std::size_t> cursor(cell_start_.begin(), cell_start_.end() - 1);
   for (std::size_t id = 0; id < segments_.size(); ++id)
   {
-    forEachCell(segments_[id], [&](std::size_t cell) { cell_segments_[cursor[cell]++] = static_cast<std::uint32_t>(id); });
+    forEachCell(segments_[id],
+                [&](std::size_t cell) { cell_segments_[cursor[cell]++] = static_cast<std::uint32_t>(id); });
   }
 }
 
@@ -347,7 +349,8 @@ void LaserPlacement::add(const SpotChunk& chunk)
         d = std::sqrt(best);
         // A segment not in this cell is farther than the tolerance from the whole cell.
         const double x0 = ox + fi * cell_m_, y0 = oy + fj * cell_m_;
-        const double edge = std::min(std::min(p.x() - x0, x0 + cell_m_ - p.x()), std::min(p.y() - y0, y0 + cell_m_ - p.y()));
+        const double edge =
+            std::min(std::min(p.x() - x0, x0 + cell_m_ - p.x()), std::min(p.y() - y0, y0 + cell_m_ - p.y()));
         lower = std::min(d, tolerance_m_ + std::max(0.0, edge));
       }
       off = !(d <= tolerance_m_);

@@ -18,7 +18,9 @@ constexpr std::size_t kMaxEarlySegments = 64;
 
 LaserSettlingCheck::LaserSettlingCheck(const NcProgram& program, double gate_shift_s, double filter_delay_s,
                                        double tolerance_m)
-  : gate_shift_s_(gate_shift_s), filter_delay_s_(filter_delay_s), tolerance_m_(tolerance_m)
+  : gate_shift_s_(gate_shift_s)
+  , filter_delay_s_(filter_delay_s)
+  , tolerance_m_(tolerance_m)
 {
   requireSetting(tolerance_m > 0.0, "energy.laser_path_tolerance_m", "> 0", tolerance_m);
   const auto& segments = program.timeline.segments();
@@ -28,8 +30,8 @@ LaserSettlingCheck::LaserSettlingCheck(const NcProgram& program, double gate_shi
       continue;
     const std::size_t first = segments_.size();
     for (std::size_t k = w.first_segment; k < w.end_segment; ++k)
-      segments_.push_back({ segments[k].start_m, segments[k].end_m, segments[k].t_start_s });
-    windows_.push_back({ w.on_s, w.off_s, w.burst_end_s, first, segments_.size() });
+      segments_.push_back({segments[k].start_m, segments[k].end_m, segments[k].t_start_s});
+    windows_.push_back({w.on_s, w.off_s, w.burst_end_s, first, segments_.size()});
   }
 }
 

@@ -194,8 +194,9 @@ LayerQualityReport LayerQuality::finish()
       const Command c = commandAt(k, cursor);
       const std::uint64_t j = k + lag_samples_;
       // The same-instant error on the stored path bounds the search (exact: a distance to it).
-      const double bound = !path_gapped_ && j < path_.size() ? sameInstantDistance(path_, static_cast<std::size_t>(j), c.point)
-                                                             : INFINITY;
+      const double bound = !path_gapped_ && j < path_.size()
+                               ? sameInstantDistance(path_, static_cast<std::size_t>(j), c.point)
+                               : INFINITY;
       addTo(report_.nearest_path, c.kind, index.distance(c.point, bound));
     }
   }
@@ -204,8 +205,8 @@ LayerQualityReport LayerQuality::finish()
   report_.fill_rate = fill_.fillRate();
   report_.fill_points_outside = fill_.pointsOutside();
   report_.mark_speed_mean_ratio = speed_samples_ > 0.0 ? speed_ratio_sum_ / speed_samples_ : NAN;
-  report_.memory_bytes = path_.memoryBytes() + index_bytes + fill_.memoryBytes() +
-                         timeline_.segments().capacity() * sizeof(PathSegment);
+  report_.memory_bytes =
+      path_.memoryBytes() + index_bytes + fill_.memoryBytes() + timeline_.segments().capacity() * sizeof(PathSegment);
   return report_;
 }
 }  // namespace scanhead

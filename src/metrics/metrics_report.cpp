@@ -1,6 +1,6 @@
 #include "scanhead/metrics/metrics_report.hpp"
-#include "scanhead/common/number_text.hpp"
 #include "scanhead/common/histogram.hpp"
+#include "scanhead/common/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,9 +13,9 @@ namespace
 {
 std::string stats(const CornerPathStats& s)
 {
-  return "{min_speed_mps: " + fullPrecisionText(s.min_speed_mps) + ", max_contour_error_m: " + fullPrecisionText(s.max_contour_error_m) + "}";
+  return "{min_speed_mps: " + fullPrecisionText(s.min_speed_mps) +
+         ", max_contour_error_m: " + fullPrecisionText(s.max_contour_error_m) + "}";
 }
-
 
 std::string errorStats(const ContourErrorStats& s)
 {
@@ -23,9 +23,10 @@ std::string errorStats(const ContourErrorStats& s)
   for (std::size_t i = 0; i <= ContourErrorStats::kBins; ++i)
     bins += (i > 0 ? ", " : "") + std::to_string(s.binCount(i));
   return "{points: " + std::to_string(s.count()) + ", share_under_10um: " + yamlNumber(s.shareUnder(10e-6)) +
-         ", share_under_20um: " + yamlNumber(s.shareUnder(20e-6)) + ", share_under_30um: " + yamlNumber(s.shareUnder(30e-6)) +
-         ", mean_m: " + yamlNumber(s.mean()) + ", p99_m: " + yamlNumber(s.quantileUpperBound(0.99)) +
-         ", max_m: " + yamlNumber(s.max()) + ", counts_1um: [" + bins + "]}";
+         ", share_under_20um: " + yamlNumber(s.shareUnder(20e-6)) +
+         ", share_under_30um: " + yamlNumber(s.shareUnder(30e-6)) + ", mean_m: " + yamlNumber(s.mean()) +
+         ", p99_m: " + yamlNumber(s.quantileUpperBound(0.99)) + ", max_m: " + yamlNumber(s.max()) + ", counts_1um: [" +
+         bins + "]}";
 }
 
 /// One definition: the shares over every marked point, then the split by kind of point.
@@ -34,8 +35,8 @@ std::string errorSplit(const ContourErrorSplit& s, const std::string& indent)
   return indent + "share_under_10um: " + yamlNumber(s.mark.shareUnder(10e-6)) + "\n" + indent +
          "share_under_20um: " + yamlNumber(s.mark.shareUnder(20e-6)) + "\n" + indent +
          "share_under_30um: " + yamlNumber(s.mark.shareUnder(30e-6)) + "\n" + indent + "mark: " + errorStats(s.mark) +
-         "\n" + indent + "contour: " + errorStats(s.contour) + "\n" + indent + "hatch: " + errorStats(s.hatch) +
-         "\n" + indent + "jump: " + errorStats(s.jump) + "\n";
+         "\n" + indent + "contour: " + errorStats(s.contour) + "\n" + indent + "hatch: " + errorStats(s.hatch) + "\n" +
+         indent + "jump: " + errorStats(s.jump) + "\n";
 }
 
 std::string qualityYaml(const LayerQualityReport& q)
@@ -57,7 +58,8 @@ std::string qualityYaml(const LayerQualityReport& q)
     out += "  nearest_path: null  # not measured: more samples than energy.contour_max_samples\n";
   }
   out += "fill_rate: " + yamlNumber(q.fill_rate) + "  # THESIS §2.6: hatch cells of pitch = spot diameter reached\n";
-  out += "fill: {pitch_m: " + fullPrecisionText(q.fill_pitch_m) + ", cells_to_fill: " + std::to_string(q.fill_cells_to_fill) +
+  out += "fill: {pitch_m: " + fullPrecisionText(q.fill_pitch_m) +
+         ", cells_to_fill: " + std::to_string(q.fill_cells_to_fill) +
          ", cells_reached: " + std::to_string(q.fill_cells_reached) +
          ", points_outside: " + std::to_string(q.fill_points_outside) + "}\n";
   out += "angle_error:  # Q_filt2 - Q_exp per axis over the program\n";
@@ -85,12 +87,14 @@ std::string thermalYaml(const RunMetrics& m)
          ", steady_std: " + steady(p.steady_length_std_m) + ", max: " + fullPrecisionText(p.max_length_m) + "}\n";
   out += "  melt_pool_width_m: {steady_mean: " + steady(p.steady_width_mean_m) +
          ", steady_std: " + steady(p.steady_width_std_m) + ", max: " + fullPrecisionText(p.max_width_m) + "}\n";
-  out += "  peak_rise_k: {steady_mean: " + steady(p.steady_peak_mean_k) + ", max: " + fullPrecisionText(p.max_peak_k) + "}\n";
+  out += "  peak_rise_k: {steady_mean: " + steady(p.steady_peak_mean_k) + ", max: " + fullPrecisionText(p.max_peak_k) +
+         "}\n";
   out += "  melted_area_m2: " + fullPrecisionText(m.thermal_melted_area_m2) + "\n";
   out += "  energy_j: {absorbed: " + fullPrecisionText(e.absorbed_j) + ", stored: " + fullPrecisionText(e.stored_j) +
          ", lost: " + fullPrecisionText(e.lost_j) + ", outside_window: " + fullPrecisionText(e.outside_j) +
          ", left_window: " + fullPrecisionText(e.left_window_j) + ", truncated: " + fullPrecisionText(e.truncated_j) +
-         ", phase_switch: " + fullPrecisionText(e.phase_switch_j) + ", residual: " + fullPrecisionText(e.residual_j()) + "}\n";
+         ", phase_switch: " + fullPrecisionText(e.phase_switch_j) + ", residual: " + fullPrecisionText(e.residual_j()) +
+         "}\n";
   return out;
 }
 
@@ -118,7 +122,8 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "energy_map: {tiles: " << m.map_tiles << ", tiles_spilled: " << m.map_tiles_spilled
       << ", spill_file_bytes: " << m.map_spill_file_bytes << "}\n";
   out << "nc: {capped_polylines: " << m.nc_program.capped_polylines << ", delay_holds: " << m.nc_program.delay_holds
-      << ", polygon_holds: " << m.nc_program.polygon_holds << ", skywritten_corners: " << m.nc_program.skywritten_corners
+      << ", polygon_holds: " << m.nc_program.polygon_holds
+      << ", skywritten_corners: " << m.nc_program.skywritten_corners
       << ", added_time_s: " << fullPrecisionText(m.nc_program.added_time_s)
       << ", speed_cap_mps: " << yamlNumber(m.nc_speed_cap_mps)
       << ", filter_delay_s: " << fullPrecisionText(m.nc_filter_delay_s) << ", t1_s: " << fullPrecisionText(m.nc_t1_s)
@@ -127,8 +132,7 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "laser_late_samples: " << m.laser_late_samples << "\n";
   out << "laser_misplaced_energy_j: " << fullPrecisionText(m.laser_misplaced_energy_j) << "\n";
   out << "laser_off_path_samples: " << m.laser_off_path_samples << "\n";
-  out << "laser_max_off_path_m: "
-      << yamlNumber(m.laser_max_off_path_m) << "\n";
+  out << "laser_max_off_path_m: " << yamlNumber(m.laser_max_off_path_m) << "\n";
   if (m.track_measured)
   {
     out << "track_energy: {median_jpm2: " << fullPrecisionText(m.track_median_jpm2)
@@ -151,7 +155,8 @@ std::string metricsToYaml(const RunMetrics& m)
   {
     out << "  - polyline: " << c.corner.polyline << "\n";
     out << "    vertex: " << c.corner.vertex << "\n";
-    out << "    point_m: [" << fullPrecisionText(c.corner.point.x()) << ", " << fullPrecisionText(c.corner.point.y()) << "]\n";
+    out << "    point_m: [" << fullPrecisionText(c.corner.point.x()) << ", " << fullPrecisionText(c.corner.point.y())
+        << "]\n";
     out << "    angle_deg: " << fullPrecisionText(c.corner.angle_rad * 180.0 / M_PI) << "\n";
     out << "    programmed_speed_mps: " << fullPrecisionText(c.corner.speed_mps) << "\n";
     out << "    setpoint: " << stats(c.setpoint) << "\n";
@@ -170,9 +175,11 @@ std::string metricsTable(const RunMetrics& m)
                 m.job_name.c_str(), static_cast<unsigned long long>(m.samples),
                 static_cast<unsigned long long>(m.dropped_samples), m.duration_s * 1e3, m.laser_on_time_s * 1e3);
   out += line;
-  std::snprintf(line, sizeof line, "energy: commanded %.6f J, deposited %.6f J (%+.4f %%), off the map %.3g J, peak %.4g J/mm^2\n",
-                m.commanded_energy_j, m.deposited_energy_j, 100.0 * relative(m.deposited_energy_j, m.commanded_energy_j),
-                m.energy_outside_map_j, m.peak_energy_density_jpm2 * 1e-6);
+  std::snprintf(line, sizeof line,
+                "energy: commanded %.6f J, deposited %.6f J (%+.4f %%), off the map %.3g J, peak %.4g J/mm^2\n",
+                m.commanded_energy_j, m.deposited_energy_j,
+                100.0 * relative(m.deposited_energy_j, m.commanded_energy_j), m.energy_outside_map_j,
+                m.peak_energy_density_jpm2 * 1e-6);
   out += line;
   std::snprintf(line, sizeof line,
                 "laser: %llu samples on before the spot reached its mark, %llu after it left (%.3g J); "
@@ -196,9 +203,10 @@ std::string metricsTable(const RunMetrics& m)
                 static_cast<unsigned long long>(q.fill_cells_to_fill), q.fill_pitch_m * 1e6);
   out += line;
   auto shares = [&](const char* name, const ContourErrorStats& s) {
-    std::snprintf(line, sizeof line, "  %-22s %8llu points: %6.2f %% < 10 um, %6.2f %% < 20 um, %6.2f %% < 30 um, max %.1f um\n",
-                  name, static_cast<unsigned long long>(s.count()), 100.0 * s.shareUnder(10e-6),
-                  100.0 * s.shareUnder(20e-6), 100.0 * s.shareUnder(30e-6), s.max() * 1e6);
+    std::snprintf(line, sizeof line,
+                  "  %-22s %8llu points: %6.2f %% < 10 um, %6.2f %% < 20 um, %6.2f %% < 30 um, max %.1f um\n", name,
+                  static_cast<unsigned long long>(s.count()), 100.0 * s.shareUnder(10e-6), 100.0 * s.shareUnder(20e-6),
+                  100.0 * s.shareUnder(30e-6), s.max() * 1e6);
     out += line;
   };
   out += "contour error of the marked points (and of the contours alone):\n";
@@ -213,18 +221,20 @@ std::string metricsTable(const RunMetrics& m)
   }
   if (m.corners.empty())
     return out;
-  out += "corner  angle   speed  |        min speed [mm/s]             |       contour error [um]\n"
-         "        [deg]   [mm/s] | setpoint  actual  theory  sp/theory | setpoint  actual  theory  sp/theory\n";
+  out +=
+      "corner  angle   speed  |        min speed [mm/s]             |       contour error [um]\n"
+      "        [deg]   [mm/s] | setpoint  actual  theory  sp/theory | setpoint  actual  theory  sp/theory\n";
   constexpr std::size_t kShownCorners = 10;  // the rest are in metrics.yaml
   for (std::size_t i = 0; i < std::min(m.corners.size(), kShownCorners); ++i)
   {
     const CornerReport& c = m.corners[i];
-    std::snprintf(line, sizeof line, "%-6zu  %6.2f  %6.0f | %8.1f  %6.1f  %6.1f  %+7.2f %% | %8.2f  %6.2f  %6.2f  %+7.2f %%\n", i,
-                  c.corner.angle_rad * 180.0 / M_PI, c.corner.speed_mps * 1e3, c.setpoint.min_speed_mps * 1e3,
-                  c.actual.min_speed_mps * 1e3, c.theory.min_speed_mps * 1e3,
-                  100.0 * relative(c.setpoint.min_speed_mps, c.theory.min_speed_mps), c.setpoint.max_contour_error_m * 1e6,
-                  c.actual.max_contour_error_m * 1e6, c.theory.max_contour_error_m * 1e6,
-                  100.0 * relative(c.setpoint.max_contour_error_m, c.theory.max_contour_error_m));
+    std::snprintf(
+        line, sizeof line, "%-6zu  %6.2f  %6.0f | %8.1f  %6.1f  %6.1f  %+7.2f %% | %8.2f  %6.2f  %6.2f  %+7.2f %%\n", i,
+        c.corner.angle_rad * 180.0 / M_PI, c.corner.speed_mps * 1e3, c.setpoint.min_speed_mps * 1e3,
+        c.actual.min_speed_mps * 1e3, c.theory.min_speed_mps * 1e3,
+        100.0 * relative(c.setpoint.min_speed_mps, c.theory.min_speed_mps), c.setpoint.max_contour_error_m * 1e6,
+        c.actual.max_contour_error_m * 1e6, c.theory.max_contour_error_m * 1e6,
+        100.0 * relative(c.setpoint.max_contour_error_m, c.theory.max_contour_error_m));
     out += line;
   }
   if (m.corners.size() > kShownCorners)

@@ -21,8 +21,8 @@ constexpr std::uint32_t kIdMask = 0x3fffffffu;
 constexpr std::size_t kMaxPoints = std::size_t(1) << 30;
 
 constexpr std::size_t kMaxCellsPerGrid = 4096;
-constexpr double kTargetPerCell = 4.0;     ///< segments per cell a grid is sized for
-constexpr std::size_t kRefineAbove = 12;   ///< a leaf with more segments is refined if that helps
+constexpr double kTargetPerCell = 4.0;    ///< segments per cell a grid is sized for
+constexpr std::size_t kRefineAbove = 12;  ///< a leaf with more segments is refined if that helps
 constexpr std::size_t kDeduplicateAbove = 8;
 constexpr int kMaxDepth = 10;
 
@@ -120,7 +120,9 @@ inline double NearestPathIndex::elementDistance(std::uint32_t element, const Eig
   return pointSegmentDistance(p, path_->point(i), path_->point(i + 1));
 }
 
-NearestPathIndex::NearestPathIndex(const PathPoints& path) : path_(&path), path_points_(path.size())
+NearestPathIndex::NearestPathIndex(const PathPoints& path)
+  : path_(&path)
+  , path_points_(path.size())
 {
   const std::size_t n = path.size();
   if (n > kMaxPoints)
@@ -247,7 +249,8 @@ bool NearestPathIndex::buildGrid(const std::vector<std::uint32_t>& elements, con
       // The cell's box (widened by the margin) ∩ the box of its segments holds every part of them
       // that lies in this cell: the child grid covers that.
       const std::size_t ci = c % g.nx, cj = c / g.nx;
-      Box sub{g.x0 + ci * h - margin, g.y0 + cj * h - margin, g.x0 + (ci + 1) * h + margin, g.y0 + (cj + 1) * h + margin};
+      Box sub{g.x0 + ci * h - margin, g.y0 + cj * h - margin, g.x0 + (ci + 1) * h + margin,
+              g.y0 + (cj + 1) * h + margin};
       Box ext{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
               -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
       for (std::uint32_t e : cell)

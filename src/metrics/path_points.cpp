@@ -10,7 +10,8 @@
 
 namespace scanhead
 {
-PathPoints::PathPoints(const Eigen::Vector2d& origin) : origin_(origin)
+PathPoints::PathPoints(const Eigen::Vector2d& origin)
+  : origin_(origin)
 {
   if (!origin.allFinite())
     throw InputError("contour error: path origin " + pointText(origin) + " m is not finite");

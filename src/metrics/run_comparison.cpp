@@ -27,29 +27,35 @@ struct Figure
 
 // What THESIS Table 3.1 and §2.6.2 compare, then the figures a process engineer adds.
 const Figure kFigures[] = {
-  { "layer_time_s", "layer time", "s", 1.0, Better::Lower },
-  { "fill_rate", "fill rate (hatch)", "%", 100.0, Better::Higher },
-  { "contour_error.same_instant.contour.share_under_10um", "contours < 10 um, same instant", "%", 100.0, Better::Higher },
-  { "contour_error.same_instant.contour.share_under_20um", "contours < 20 um, same instant", "%", 100.0, Better::Higher },
-  { "contour_error.same_instant.contour.share_under_30um", "contours < 30 um, same instant", "%", 100.0, Better::Higher },
-  { "contour_error.nearest_path.contour.share_under_10um", "contours < 10 um, nearest path", "%", 100.0, Better::Higher },
-  { "contour_error.nearest_path.contour.share_under_20um", "contours < 20 um, nearest path", "%", 100.0, Better::Higher },
-  { "contour_error.nearest_path.contour.share_under_30um", "contours < 30 um, nearest path", "%", 100.0, Better::Higher },
-  { "contour_error.same_instant.share_under_10um", "marks < 10 um, same instant", "%", 100.0, Better::Higher },
-  { "contour_error.same_instant.share_under_30um", "marks < 30 um, same instant", "%", 100.0, Better::Higher },
-  { "contour_error.same_instant.hatch.share_under_10um", "hatch < 10 um, same instant", "%", 100.0, Better::Higher },
-  { "contour_error.same_instant.jump.share_under_30um", "jumps < 30 um, same instant", "%", 100.0, Better::Higher },
-  { "contour_error.same_instant.contour.max_m", "contour error max, same instant", "um", 1e6, Better::Lower },
-  { "contour_error.same_instant.contour.p99_m", "contour error p99, same instant", "um", 1e6, Better::Lower },
-  { "speed_profile.mean_ratio", "mark speed / programmed (mean)", "%", 100.0, Better::Higher },
-  { "speed_profile.share_below_90pct", "mark time below 90 % speed", "%", 100.0, Better::Lower },
-  { "angle_error.x.quantiles.p99", "angle error x p99", "urad", 1.0, Better::Lower },
-  { "angle_error.y.quantiles.p99", "angle error y p99", "urad", 1.0, Better::Lower },
-  { "peak_energy_density_jpm2", "peak energy density", "J/mm^2", 1e-6, Better::None },
-  { "track_energy.mean_jpm2", "mean energy along tracks", "J/mm^2", 1e-6, Better::None },
-  { "corner_energy.max_peak_to_track_mean", "corner peak / track mean (max)", "x", 1.0, Better::Lower },
-  { "laser_off_path_samples", "laser on off the marks", "samples", 1.0, Better::Lower },
-  { "dropped_samples", "dropped samples", "samples", 1.0, Better::Lower },
+    {"layer_time_s", "layer time", "s", 1.0, Better::Lower},
+    {"fill_rate", "fill rate (hatch)", "%", 100.0, Better::Higher},
+    {"contour_error.same_instant.contour.share_under_10um", "contours < 10 um, same instant", "%", 100.0,
+     Better::Higher},
+    {"contour_error.same_instant.contour.share_under_20um", "contours < 20 um, same instant", "%", 100.0,
+     Better::Higher},
+    {"contour_error.same_instant.contour.share_under_30um", "contours < 30 um, same instant", "%", 100.0,
+     Better::Higher},
+    {"contour_error.nearest_path.contour.share_under_10um", "contours < 10 um, nearest path", "%", 100.0,
+     Better::Higher},
+    {"contour_error.nearest_path.contour.share_under_20um", "contours < 20 um, nearest path", "%", 100.0,
+     Better::Higher},
+    {"contour_error.nearest_path.contour.share_under_30um", "contours < 30 um, nearest path", "%", 100.0,
+     Better::Higher},
+    {"contour_error.same_instant.share_under_10um", "marks < 10 um, same instant", "%", 100.0, Better::Higher},
+    {"contour_error.same_instant.share_under_30um", "marks < 30 um, same instant", "%", 100.0, Better::Higher},
+    {"contour_error.same_instant.hatch.share_under_10um", "hatch < 10 um, same instant", "%", 100.0, Better::Higher},
+    {"contour_error.same_instant.jump.share_under_30um", "jumps < 30 um, same instant", "%", 100.0, Better::Higher},
+    {"contour_error.same_instant.contour.max_m", "contour error max, same instant", "um", 1e6, Better::Lower},
+    {"contour_error.same_instant.contour.p99_m", "contour error p99, same instant", "um", 1e6, Better::Lower},
+    {"speed_profile.mean_ratio", "mark speed / programmed (mean)", "%", 100.0, Better::Higher},
+    {"speed_profile.share_below_90pct", "mark time below 90 % speed", "%", 100.0, Better::Lower},
+    {"angle_error.x.quantiles.p99", "angle error x p99", "urad", 1.0, Better::Lower},
+    {"angle_error.y.quantiles.p99", "angle error y p99", "urad", 1.0, Better::Lower},
+    {"peak_energy_density_jpm2", "peak energy density", "J/mm^2", 1e-6, Better::None},
+    {"track_energy.mean_jpm2", "mean energy along tracks", "J/mm^2", 1e-6, Better::None},
+    {"corner_energy.max_peak_to_track_mean", "corner peak / track mean (max)", "x", 1.0, Better::Lower},
+    {"laser_off_path_samples", "laser on off the marks", "samples", 1.0, Better::Lower},
+    {"dropped_samples", "dropped samples", "samples", 1.0, Better::Lower},
 };
 
 /// metrics.yaml up to its corner list: a whole layer has ~1e5 corners (40 MB) that no figure here needs.
@@ -182,18 +188,22 @@ std::string comparisonYaml(const RunComparison& c)
 {
   std::string out = "runs: [" + yamlQuoted(c.name_a) + ", " + yamlQuoted(c.name_b) + "]\nrows:\n";
   for (const ComparisonRow& r : c.rows)
-    out += "  - {key: " + r.key + ", label: " + yamlQuoted(r.label) + ", unit: " + yamlQuoted(r.unit) + ", a: " + yamlNumber(r.a) +
-           ", b: " + yamlNumber(r.b) + ", better: " +
-           (r.better == Better::Lower ? "lower" : r.better == Better::Higher ? "higher" : "none") + "}\n";
+    out += "  - {key: " + r.key + ", label: " + yamlQuoted(r.label) + ", unit: " + yamlQuoted(r.unit) +
+           ", a: " + yamlNumber(r.a) + ", b: " + yamlNumber(r.b) + ", better: " +
+           (r.better == Better::Lower    ? "lower"
+            : r.better == Better::Higher ? "higher"
+                                         : "none") +
+           "}\n";
   return out;
 }
 
 std::string comparisonMarkdown(const RunComparison& c)
 {
-  std::string out = "| figure | unit | " + c.name_a + " | " + c.name_b + " | B − A | better |\n|---|---|---|---|---|---|\n";
+  std::string out =
+      "| figure | unit | " + c.name_a + " | " + c.name_b + " | B − A | better |\n|---|---|---|---|---|---|\n";
   for (const ComparisonRow& r : c.rows)
-    out += "| " + r.label + " | " + r.unit + " | " + cell(r.a, r.unit) + " | " + cell(r.b, r.unit) + " | " +
-           change(r) + " | " + better(r) + " |\n";
+    out += "| " + r.label + " | " + r.unit + " | " + cell(r.a, r.unit) + " | " + cell(r.b, r.unit) + " | " + change(r) +
+           " | " + better(r) + " |\n";
   return out;
 }
 }  // namespace scanhead

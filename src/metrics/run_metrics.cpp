@@ -15,7 +15,6 @@ namespace
 {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-
 /// \brief +inf (never touched) becomes NaN ("no data").
 double orNan(double v)
 {

@@ -69,7 +69,7 @@ FilterDurations minimalDurations(double step_mps, const PlaneLimits& limits)
   {
     return d;
   }
-  const double t_accel_s = step_mps / limits.max_accel_mps2;      // Δ/A
+  const double t_accel_s = step_mps / limits.max_accel_mps2;           // Δ/A
   const double t_jerk_s = std::sqrt(step_mps / limits.max_jerk_mps3);  // sqrt(Δ/J)
   if (t_accel_s >= t_jerk_s)
   {
@@ -104,7 +104,8 @@ FilterDurations durationsFor(double accel_step_mps, double jerk_step_mps, const 
 }  // namespace
 
 AdaptiveFir::AdaptiveFir(const PathTimeline& timeline, const PlaneLimits& limits)
-    : timeline_(&timeline), limits_(limits)
+  : timeline_(&timeline)
+  , limits_(limits)
 {
   checkLimits(limits);
   const std::vector<PathSegment>& segs = timeline.segments();
@@ -141,7 +142,7 @@ AdaptiveFir::AdaptiveFir(const PathTimeline& timeline, const PlaneLimits& limits
   // V_k: largest speed of the segments overlapping [t_k − W, t_k + W] (sliding-window maximum;
   // both window ends only move forward since the knots are sorted).
   std::deque<std::size_t> best;  // segment indices, speeds decreasing
-  std::size_t next = 0;           // next segment to enter the window
+  std::size_t next = 0;          // next segment to enter the window
   for (Knot& knot : knots_)
   {
     while (next < n_seg && segs[next].t_start_s <= knot.t_s + window_s)
@@ -236,8 +237,8 @@ void AdaptiveFir::setKernels()
   }
 }
 
-bool AdaptiveFir::lengthenWhereOverlapsExceed(std::vector<double>& accel_step_mps,
-                                              std::vector<double>& jerk_step_mps, std::vector<char>& changed) const
+bool AdaptiveFir::lengthenWhereOverlapsExceed(std::vector<double>& accel_step_mps, std::vector<double>& jerk_step_mps,
+                                              std::vector<char>& changed) const
 {
   // The acceleration Σ Δv_k·k_k(s − t_k) is continuous and piecewise linear in s: its norm peaks
   // at a breakpoint t_k ± a_k, t_k ± h_k. The jerk is piecewise constant: one value per interval

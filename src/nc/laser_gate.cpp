@@ -11,13 +11,14 @@
 
 namespace scanhead
 {
-LaserGate::LaserGate(const PathTimeline& timeline, double on_delay_s, double off_delay_s) : on_delay_s_(on_delay_s)
+LaserGate::LaserGate(const PathTimeline& timeline, double on_delay_s, double off_delay_s)
+  : on_delay_s_(on_delay_s)
 {
   if (!std::isfinite(on_delay_s) || !std::isfinite(off_delay_s))
   {
     std::ostringstream msg;
-    msg << "laser gate: the laser-on and laser-off delays must be finite (got " << on_delay_s << ", "
-        << off_delay_s << ")";
+    msg << "laser gate: the laser-on and laser-off delays must be finite (got " << on_delay_s << ", " << off_delay_s
+        << ")";
     throw ConfigError(msg.str());
   }
   const std::vector<PathSegment>& segs = timeline.segments();

@@ -14,15 +14,15 @@
 #include <stdexcept>
 #include <string>
 
-#include "scanhead/nc/adaptive_fir.hpp"
 #include "scanhead/common/box_filter.hpp"
-#include "scanhead/optics/correction_table.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
-#include "scanhead/servo/galvo_servo.hpp"
-#include "scanhead/optics/joint_gain.hpp"
 #include "scanhead/job/path_timeline.hpp"
+#include "scanhead/nc/adaptive_fir.hpp"
 #include "scanhead/nc/rate_limiter.hpp"
+#include "scanhead/optics/correction_table.hpp"
+#include "scanhead/optics/joint_gain.hpp"
+#include "scanhead/servo/galvo_servo.hpp"
 
 namespace scanhead
 {
@@ -67,8 +67,8 @@ Eigen::Vector2d jacobianRateTimesVelocity(const OpticalModel& optics, const Eige
   }
   constexpr double kStep_rad = 1e-6;
   const Eigen::Vector2d u = q_dot / speed;
-  const Eigen::Matrix2d rate = (optics.jacobian(q + kStep_rad * u) - optics.jacobian(q - kStep_rad * u)) *
-                               (speed / (2.0 * kStep_rad));
+  const Eigen::Matrix2d rate =
+      (optics.jacobian(q + kStep_rad * u) - optics.jacobian(q - kStep_rad * u)) * (speed / (2.0 * kStep_rad));
   return rate * q_dot;
 }
 }  // namespace
@@ -116,13 +116,13 @@ struct NcInterpolator::State
   AdaptiveFir::Cursor filt1_cursor;
   double gate_shift_s = 0.0;  ///< D − (T1 + T2)/2: the gate's command time lags the fixed alignment by this
   Eigen::Vector2d x_prev = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
-  Eigen::Vector2d q_prev = Eigen::Vector2d::Zero();   ///< IGT output at the last sample [rad]
-  Eigen::Vector2d q_prev2 = Eigen::Vector2d::Zero();  ///< one sample before [rad]
-  Eigen::Vector2d q_inter_prev = Eigen::Vector2d::Zero();       ///< debug, adaptive: Q_inter history
+  Eigen::Vector2d q_prev = Eigen::Vector2d::Zero();        ///< IGT output at the last sample [rad]
+  Eigen::Vector2d q_prev2 = Eigen::Vector2d::Zero();       ///< one sample before [rad]
+  Eigen::Vector2d q_inter_prev = Eigen::Vector2d::Zero();  ///< debug, adaptive: Q_inter history
   Eigen::Vector2d q_inter_prev2 = Eigen::Vector2d::Zero();
   Eigen::Vector2d accel_prev = Eigen::Vector2d::Zero();
-  std::vector<double> plane_speeds;           ///< per sample of the chunk: speed the power follows [m/s]
-  std::unique_ptr<GalvoServo> predictor;      ///< power_mode "predicted": the servo model on the setpoint
+  std::vector<double> plane_speeds;       ///< per sample of the chunk: speed the power follows [m/s]
+  std::unique_ptr<GalvoServo> predictor;  ///< power_mode "predicted": the servo model on the setpoint
   std::uint64_t next = 0;
   std::uint64_t total = 0;
   std::string job_name;
@@ -131,7 +131,10 @@ struct NcInterpolator::State
 
 NcInterpolator::NcInterpolator(const NcConfig& config, const Recipe& recipe, const OpticalModel& optics,
                                const ServoConfig* servo_model)
-  : config_(config), recipe_(recipe), optics_(optics), igt_(std::make_unique<Igt>())
+  : config_(config)
+  , recipe_(recipe)
+  , optics_(optics)
+  , igt_(std::make_unique<Igt>())
 {
   config_.validate();
   if (servo_model != nullptr)
@@ -148,16 +151,17 @@ NcInterpolator::NcInterpolator(const NcConfig& config, const Recipe& recipe, con
   }
   if (config_.cap_speeds && config_.filter_mode == "fixed" && !(config_.fir_t1_s > 0.0 && config_.fir_t2_s > 0.0))
   {
-    throw ConfigError("nc.cap_speeds needs nc.fir_t1_s and nc.fir_t2_s > 0 (fixed filters of zero duration "
-                      "cannot keep any speed within the acceleration and jerk limits)");
+    throw ConfigError(
+        "nc.cap_speeds needs nc.fir_t1_s and nc.fir_t2_s > 0 (fixed filters of zero duration "
+        "cannot keep any speed within the acceleration and jerk limits)");
   }
   if (config_.igt.mode == "table")
   {
     igt_->use_table = true;
     igt_->interpolation = parseTableInterpolation(config_.igt.table_interpolation, "nc.igt.table_interpolation");
-    igt_->table = config_.igt.table_file.empty() ?
-                      CorrectionTable::build(optics_, config_.igt.table_nodes, optics_.config().field_half_width_m) :
-                      CorrectionTable::load(config_.igt.table_file);
+    igt_->table = config_.igt.table_file.empty()
+                      ? CorrectionTable::build(optics_, config_.igt.table_nodes, optics_.config().field_half_width_m)
+                      : CorrectionTable::load(config_.igt.table_file);
   }
   if (config_.filter_mode == "adaptive" || config_.cap_speeds)
   {
@@ -190,7 +194,8 @@ void NcInterpolator::start(const Job& job)
     // Any path at V through box T1 then box T2: |q̈| = |q̇(t) − q̇(t − T1)|/T1 <= 2gV/T1 (a reversal),
     // |q⃛| = |q̈(t) − q̈(t − T2)|/T2 <= 4gV/(T1·T2) (two reversals within T1): bounds, not estimates.
     speed_cap = std::min(config_.max_joint_accel_radps2 * config_.fir_t1_s / 2.0,
-                         config_.max_joint_jerk_radps3 * config_.fir_t1_s * config_.fir_t2_s / 4.0) / g;
+                         config_.max_joint_jerk_radps3 * config_.fir_t1_s * config_.fir_t2_s / 4.0) /
+                g;
   }
   NcProgramOptions options = NcProgramOptions::from(config_, recipe_);
   options.speed_cap_mps = speed_cap;
@@ -221,9 +226,9 @@ void NcInterpolator::start(const Job& job)
   {
     // A move ends at the vertex after its start; an inserted jump, a dwell or a hold at its own.
     const std::size_t vertex = (seg.implicit_jump || seg.dwell || seg.delay) ? seg.vertex : seg.vertex + 1;
-    const std::string what = seg.skywriting ? "skywriting point (polyline " + std::to_string(seg.polyline) + ")" :
-                                              "polyline " + std::to_string(seg.polyline) + " point " +
-                                                  std::to_string(vertex);
+    const std::string what = seg.skywriting
+                                 ? "skywriting point (polyline " + std::to_string(seg.polyline) + ")"
+                                 : "polyline " + std::to_string(seg.polyline) + " point " + std::to_string(vertex);
     reach(seg.end_m, what);
   }
 
@@ -231,7 +236,7 @@ void NcInterpolator::start(const Job& job)
   double filter_delay_s = config_.filterDelay();
   if (st->adaptive)
   {
-    const PlaneLimits limits{ config_.max_joint_accel_radps2 / g, config_.max_joint_jerk_radps3 / g };
+    const PlaneLimits limits{config_.max_joint_accel_radps2 / g, config_.max_joint_jerk_radps3 / g};
     st->adaptive_fir = AdaptiveFir(timeline, limits);
     filter_delay_s = st->adaptive_fir.delay();
     st->gate_shift_s = filter_delay_s - config_.filterDelay();
@@ -333,8 +338,8 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
     catch (const NumericalError& e)
     {
       std::ostringstream msg;
-      msg << "NC: job '" << st.job_name << "' sample " << n << " (t = " << t_s << " s): " << what << " "
-          << pointText(x) << " is not reachable by the optics: " << e.what();
+      msg << "NC: job '" << st.job_name << "' sample " << n << " (t = " << t_s << " s): " << what << " " << pointText(x)
+          << " is not reachable by the optics: " << e.what();
       state_.reset();
       throw NumericalError(msg.str());
     }

@@ -224,8 +224,8 @@ private:
   void emitJump(std::size_t g)
   {
     const Group& grp = groups_[g];
-    const bool into_work = g + 1 < groups_.size() &&
-                           (groups_[g + 1].kind == GroupKind::Mark || groups_[g + 1].kind == GroupKind::Dwell);
+    const bool into_work =
+        g + 1 < groups_.size() && (groups_[g + 1].kind == GroupKind::Mark || groups_[g + 1].kind == GroupKind::Dwell);
     const Eigen::Vector2d target = into_work ? entry(g + 1) : segs_[grp.end - 1].end_m;
     bool moved = false;
     for (std::size_t k = grp.begin; k < grp.end; ++k)

@@ -9,13 +9,14 @@
 
 namespace scanhead
 {
-RateLimiter::RateLimiter(double max_rate, double period_s) : max_rate_(max_rate), max_step_(max_rate * period_s)
+RateLimiter::RateLimiter(double max_rate, double period_s)
+  : max_rate_(max_rate)
+  , max_step_(max_rate * period_s)
 {
   if (!(std::isfinite(max_rate) && max_rate > 0.0) || !(std::isfinite(period_s) && period_s > 0.0))
   {
     std::ostringstream msg;
-    msg << "RateLimiter: max rate and period must be > 0 (got rate " << max_rate << ", period " << period_s
-        << " s)";
+    msg << "RateLimiter: max rate and period must be > 0 (got rate " << max_rate << ", period " << period_s << " s)";
     throw ConfigError(msg.str());
   }
 }

@@ -30,8 +30,9 @@ BagSourceNode::BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
   // The energy stage takes each job's timing from the NC's plan: a bag without it cannot be replayed.
   rosbag::View plans(bag_, rosbag::TopicQuery(std::vector<std::string>{"nc/plan", nh.resolveName("nc/plan")}));
   if (plans.size() == 0)
-    throw InputError(path + ": no nc/plan messages (recorded by a scanhead older than the NC plan message): "
-                            "record it again with virtual_machine.launch record:=true");
+    throw InputError(path +
+                     ": no nc/plan messages (recorded by a scanhead older than the NC plan message): "
+                     "record it again with virtual_machine.launch record:=true");
   next_ = view_->begin();
   job_pub_ = nh.advertise<ScanJob>("cam/job", 1, true);
   plan_pub_ = nh.advertise<NcJobPlan>("nc/plan", 1, true);

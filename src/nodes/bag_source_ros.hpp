@@ -7,9 +7,9 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <scanhead/ChunkAck.h>
+#include <scanhead/NcJobPlan.h>
 #include <scanhead/NcLaser.h>
 #include <scanhead/NcSetpoint.h>
-#include <scanhead/NcJobPlan.h>
 #include <scanhead/ScanJob.h>
 
 #include <memory>

@@ -4,17 +4,20 @@
 #include <scanhead/JobMetrics.h>
 
 #include "ros_config.hpp"
-#include "ros_energy_views.hpp"
 #include "ros_conversions.hpp"
+#include "ros_energy_views.hpp"
 #include "scanhead/chain/config_io.hpp"
-#include "scanhead/metrics/metrics_report.hpp"
 #include "scanhead/chain/results_writer.hpp"
+#include "scanhead/metrics/metrics_report.hpp"
 #include "support/python_plots.hpp"
 
 namespace scanhead
 {
 EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
-  : config_(chainConfigFromParams(nh)), settings_yaml_(chainConfigToYaml(config_)), stage_(config_), nh_(nh)
+  : config_(chainConfigFromParams(nh))
+  , settings_yaml_(chainConfigToYaml(config_))
+  , stage_(config_)
+  , nh_(nh)
 {
   std::string base_dir;
   private_nh.param("out", out_, std::string());
@@ -78,9 +81,10 @@ void EnergyAccumulatorNode::onPlan(const NcJobPlan& msg)
       std::string text;
       for (const std::string& line : differ)
         text += "\n  " + line;
-      ROS_ERROR("energy: configured differently from the NC node (NC's value vs this node's):%s\n"
-                "The NC's plan is used; give every node the same config (and set:=) to compare runs.",
-                text.c_str());
+      ROS_ERROR(
+          "energy: configured differently from the NC node (NC's value vs this node's):%s\n"
+          "The NC's plan is used; give every node the same config (and set:=) to compare runs.",
+          text.c_str());
     }
   }
   catch (const std::exception& e)
@@ -128,8 +132,9 @@ void EnergyAccumulatorNode::finishJob()
   views_published_ = false;
   publishViews();
   if (exit_when_done_)  // after a delay that lets a recorder write the last chunks
-    shutdown_timer_ = nh_.createWallTimer(ros::WallDuration(std::max(shutdown_delay_s_, 1e-3)),
-                                          [](const ros::WallTimerEvent&) { ros::shutdown(); }, true);
+    shutdown_timer_ = nh_.createWallTimer(
+        ros::WallDuration(std::max(shutdown_delay_s_, 1e-3)), [](const ros::WallTimerEvent&) { ros::shutdown(); },
+        true);
 }
 
 void EnergyAccumulatorNode::publishResults(const RunMetrics& metrics)
@@ -150,7 +155,8 @@ void EnergyAccumulatorNode::publishResults(const RunMetrics& metrics)
 
 void EnergyAccumulatorNode::publishViews()
 {
-  const bool wanted = image_pub_.getNumSubscribers() + grid_pub_.getNumSubscribers() + markers_pub_.getNumSubscribers() > 0;
+  const bool wanted =
+      image_pub_.getNumSubscribers() + grid_pub_.getNumSubscribers() + markers_pub_.getNumSubscribers() > 0;
   if (!last_stage_ || views_published_ || !wanted)
     return;
   // A bounded overview of the sparse map (block means), whatever the job's extent.

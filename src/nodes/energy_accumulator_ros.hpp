@@ -1,7 +1,7 @@
 /// \file energy_accumulator_ros.hpp
-/// \brief The energy node: cam/job, nc/plan (the NC's plan of each job) and optics/spot in; energy/ack (flow control), energy/metrics,
-/// energy/map (image), energy/map_grid (on the work plane in rviz), energy/path_markers out;
-/// writes the results folder when ~out is set.
+/// \brief The energy node: cam/job, nc/plan (the NC's plan of each job) and optics/spot in; energy/ack (flow control),
+/// energy/metrics, energy/map (image), energy/map_grid (on the work plane in rviz), energy/path_markers out; writes the
+/// results folder when ~out is set.
 #pragma once
 
 #include <ros/ros.h>
@@ -38,12 +38,12 @@ private:
   void publishViews();
 
   ChainConfig config_;
-  std::string settings_yaml_;  ///< this node's settings, compared with the NC's
-  std::map<std::uint32_t, Job> jobs_;  ///< recent jobs by id
+  std::string settings_yaml_;              ///< this node's settings, compared with the NC's
+  std::map<std::uint32_t, Job> jobs_;      ///< recent jobs by id
   std::map<std::uint32_t, NcPlan> plans_;  ///< the NC's plans of recent jobs, by id
   EnergySinkStage stage_;
   std::unique_ptr<StageNodeAdapter<EnergySinkStage, SpotStream>> adapter_;  ///< optics/spot in
-  std::unique_ptr<EnergyStage> last_stage_;  ///< the last finished job, for the views
+  std::unique_ptr<EnergyStage> last_stage_;                                 ///< the last finished job, for the views
   Job last_job_;
   bool views_published_ = false;
   std::string out_;

@@ -19,8 +19,7 @@ GalvoServoNode::GalvoServoNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
   StageNodeAdapter<ServoStage, NcSetpoint>::Binding binding;
   binding.job = [this](const ChunkHeader& header) -> std::optional<ServoJob> {
     if (header.period != period_s_)
-      ROS_WARN("galvo: stream period %g s differs from nc.period_s %g s; using the stream's", header.period,
-               period_s_);
+      ROS_WARN("galvo: stream period %g s differs from nc.period_s %g s; using the stream's", header.period, period_s_);
     return ServoJob{header.period};
   };
   binding.process = [](ServoStage& stage, const std::tuple<std::shared_ptr<const NcSetpoint>>& m) {

@@ -57,9 +57,10 @@ void GraphBenchmarkNode::report() const
   unsigned long long dropped = 0;
   for (auto d : dropped_)
     dropped += d;
-  std::printf("graph benchmark, job %s: %zu runs of %.2f ms machine time; real-time factor mean %.1fx, "
-              "worst %.1fx, best %.1fx; dropped samples %llu\n",
-              job_.c_str(), rtf.size(), job_s_.empty() ? 0.0 : job_s_[0] * 1e3, mean, rtf.front(), rtf.back(), dropped);
+  std::printf(
+      "graph benchmark, job %s: %zu runs of %.2f ms machine time; real-time factor mean %.1fx, "
+      "worst %.1fx, best %.1fx; dropped samples %llu\n",
+      job_.c_str(), rtf.size(), job_s_.empty() ? 0.0 : job_s_[0] * 1e3, mean, rtf.front(), rtf.back(), dropped);
   std::fflush(stdout);
 }
 }  // namespace scanhead

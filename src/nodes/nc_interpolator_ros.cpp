@@ -35,7 +35,8 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
     plan_pub_.publish(toMsg(nc_->plan(), msg.job_id, settings_yaml_));  // before any chunk of the job
     window_.start(msg.job_id, config_.stream.window_chunks * config_.stream.chunk_samples);
     ROS_INFO("nc: job %u '%s': %llu samples (%.3f ms)", msg.job_id, job.name.c_str(),
-             static_cast<unsigned long long>(nc_->plan().total_samples), 1e3 * nc_->plan().total_samples * config_.nc.period_s);
+             static_cast<unsigned long long>(nc_->plan().total_samples),
+             1e3 * nc_->plan().total_samples * config_.nc.period_s);
     pump();
   }
   catch (const std::exception& e)

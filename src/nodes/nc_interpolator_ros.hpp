@@ -40,7 +40,7 @@ private:
   ChunkOutlet<NcLaser> laser_out_;
   ChunkOutlet<NcDebug> debug_out_;
   ros::Subscriber job_sub_, ack_sub_;
-  ros::Publisher plan_pub_;  ///< nc/plan, latched: the plan of the current job
+  ros::Publisher plan_pub_;    ///< nc/plan, latched: the plan of the current job
   std::string settings_yaml_;  ///< this node's settings, sent with each plan
   ros::Timer timer_;
   FlowWindow window_;

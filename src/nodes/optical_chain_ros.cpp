@@ -22,8 +22,8 @@ OpticalChainNode::OpticalChainNode(ros::NodeHandle& nh, ros::NodeHandle& private
   };
   binding.publish = [this](const SpotChunk& spots, const ChunkHeader& header) { spot_out_.push(toMsg(spots, header)); };
   adapter_ = std::make_unique<Adapter>(
-      nh, *stage_, std::array<std::string, 3>{"nc/setpoint", "nc/laser", "galvo/joint_states_chunk"}, std::move(binding),
-      "optics");
+      nh, *stage_, std::array<std::string, 3>{"nc/setpoint", "nc/laser", "galvo/joint_states_chunk"},
+      std::move(binding), "optics");
   timer_ = nh.createTimer(ros::Duration(0.01), [this](const ros::TimerEvent&) { spot_out_.flush(); });
 }
 }  // namespace scanhead

@@ -25,9 +25,9 @@ namespace scanhead
 namespace
 {
 constexpr Eigen::Index kN = static_cast<Eigen::Index>(kDefectCount);
-constexpr double kDifferenceStep = 1e-3;        ///< central-difference step [mm | mrad]
-constexpr double kStepTolerance = 1e-9;         ///< stop: max |Δδ| of the range step below this [mm | mrad]
-constexpr double kGradientTolerance = 1e-6;     ///< stop: ‖U_ρᵀ r‖ ≤ this · ‖r‖ (r ⟂ identifiable directions)
+constexpr double kDifferenceStep = 1e-3;     ///< central-difference step [mm | mrad]
+constexpr double kStepTolerance = 1e-9;      ///< stop: max |Δδ| of the range step below this [mm | mrad]
+constexpr double kGradientTolerance = 1e-6;  ///< stop: ‖U_ρᵀ r‖ ≤ this · ‖r‖ (r ⟂ identifiable directions)
 constexpr double kSpotStepTolerance_m = 1e-12;  ///< or ‖U_ρᵀ r‖ ≤ this · √(spots) [m]: 1 pm RMS
 constexpr double kInitialDamping = 1e-10;       ///< LM λ at start, × s_0²
 constexpr double kMinimumDamping = 1e-16;       ///< × s_0²
@@ -51,7 +51,9 @@ class SpotModel
 public:
   SpotModel(const OpticalGeometry& nominal, const OpticsConfig& config,
             const std::vector<SpotMeasurement>& measurements)
-    : nominal_(nominal), config_(config), measurements_(measurements)
+    : nominal_(nominal)
+    , config_(config)
+    , measurements_(measurements)
   {
   }
 
@@ -197,8 +199,7 @@ std::string combinationText(Eigen::Index pivot, const Eigen::VectorXd& v)
   // by the printed |c| (hundredths), ties in table order, so that equal coefficients do not
   // swap places with rounding noise
   auto printed = [&v](Eigen::Index c) { return std::lround(std::abs(v[c]) * 100.0); };
-  std::stable_sort(order.begin(), order.end(),
-                   [&](Eigen::Index x, Eigen::Index y) { return printed(x) > printed(y); });
+  std::stable_sort(order.begin(), order.end(), [&](Eigen::Index x, Eigen::Index y) { return printed(x) > printed(y); });
   order.insert(order.begin(), pivot);
   std::string text;
   for (Eigen::Index c : order)

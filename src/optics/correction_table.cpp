@@ -18,8 +18,8 @@ namespace
 {
 const char* const kHeader = "# scanhead correction table v1";
 const char* const kHeaderPrefix = "# scanhead correction table v";
-const char* const kColumns[] = { "i", "j", "q_x_rad", "q_y_rad", "dq_x_dx", "dq_y_dx", "dq_x_dy",
-                                 "dq_y_dy", "d2q_x_dxdy", "d2q_y_dxdy" };
+const char* const kColumns[] = {"i",       "j",       "q_x_rad", "q_y_rad",    "dq_x_dx",
+                                "dq_y_dx", "dq_x_dy", "dq_y_dy", "d2q_x_dxdy", "d2q_y_dxdy"};
 constexpr int kColumnCount = 10;
 
 /// Upper bound on nodes per axis (n² nodes of 64 bytes each: 2049² ≈ 270 MB).
@@ -33,8 +33,8 @@ constexpr double kEdgeTolerance_m = 1e-9;
 {
   std::ostringstream msg;
   msg.precision(12);
-  msg << "correction table: point (" << spot_m.x() * 1e3 << ", " << spot_m.y() * 1e3
-      << ") mm lies outside the table [-" << half_width_m * 1e3 << ", " << half_width_m * 1e3 << "]² mm";
+  msg << "correction table: point (" << spot_m.x() * 1e3 << ", " << spot_m.y() * 1e3 << ") mm lies outside the table [-"
+      << half_width_m * 1e3 << ", " << half_width_m * 1e3 << "]² mm";
   throw NumericalError(msg.str());
 }
 
@@ -141,10 +141,8 @@ CorrectionTable CorrectionTable::build(const OpticalModel& optics, int nodes, do
     {
       for (int c = 0; c < 2; ++c)
       {
-        const double qx_y =
-            gridDerivative([&](int k) { return table.node_[table.index(i, k)].q_x[c]; }, j, n, inv_s);
-        const double qy_x =
-            gridDerivative([&](int k) { return table.node_[table.index(k, j)].q_y[c]; }, i, n, inv_s);
+        const double qx_y = gridDerivative([&](int k) { return table.node_[table.index(i, k)].q_x[c]; }, j, n, inv_s);
+        const double qy_x = gridDerivative([&](int k) { return table.node_[table.index(k, j)].q_y[c]; }, i, n, inv_s);
         table.node_[table.index(i, j)].q_xy[c] = 0.5 * (qx_y + qy_x);
       }
     }
@@ -231,7 +229,7 @@ void CorrectionTable::save(const std::string& path) const
       {
         const Node& node = node_[index(i, j)];
         out << i << " " << j;
-        for (const double* pair : { node.q, node.q_x, node.q_y, node.q_xy })
+        for (const double* pair : {node.q, node.q_x, node.q_y, node.q_xy})
           out << " " << fullPrecisionText(pair[0]) << " " << fullPrecisionText(pair[1]);
         out << "\n";
       }
@@ -344,9 +342,9 @@ CorrectionTable CorrectionTable::load(const std::string& path)
     // A node line.
     if (node_lines == 0)
     {
-      for (const auto& [present, key] : { std::pair<bool, const char*>{ have_nodes, "nodes" },
-                                          { have_half_width, "half_width_m" },
-                                          { have_columns, "columns" } })
+      for (const auto& [present, key] : {std::pair<bool, const char*>{have_nodes, "nodes"},
+                                         {have_half_width, "half_width_m"},
+                                         {have_columns, "columns"}})
       {
         if (!present)
           throw fail(std::string("missing key '") + key + "' before the node lines");
@@ -357,8 +355,8 @@ CorrectionTable CorrectionTable::load(const std::string& path)
     if (node_lines >= expected_lines)
       throw fail("more node lines than nodes² = " + std::to_string(expected_lines));
     if (static_cast<int>(tokens.size()) != kColumnCount)
-      throw fail("a node line needs " + std::to_string(kColumnCount) + " fields (got " +
-                 std::to_string(tokens.size()) + ")");
+      throw fail("a node line needs " + std::to_string(kColumnCount) + " fields (got " + std::to_string(tokens.size()) +
+                 ")");
     double values[kColumnCount];
     for (int k = 0; k < kColumnCount; ++k)
     {
@@ -387,15 +385,15 @@ CorrectionTable CorrectionTable::load(const std::string& path)
     throw fail("read error");
   if (node_lines == 0 || node_lines != expected_lines)
   {
-    for (const auto& [present, key] :
-         { std::pair<bool, const char*>{ have_nodes, "nodes" }, { have_half_width, "half_width_m" },
-           { have_columns, "columns" } })
+    for (const auto& [present, key] : {std::pair<bool, const char*>{have_nodes, "nodes"},
+                                       {have_half_width, "half_width_m"},
+                                       {have_columns, "columns"}})
     {
       if (!present)
         throw fail(std::string("end of file: missing key '") + key + "'");
     }
-    throw fail("end of file after " + std::to_string(node_lines) + " node lines, expected " +
-               std::to_string(nodes) + " × " + std::to_string(nodes) + " = " +
+    throw fail("end of file after " + std::to_string(node_lines) + " node lines, expected " + std::to_string(nodes) +
+               " × " + std::to_string(nodes) + " = " +
                std::to_string(static_cast<std::size_t>(nodes) * static_cast<std::size_t>(nodes)));
   }
   return table;

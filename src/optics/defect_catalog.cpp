@@ -48,16 +48,16 @@ bool isRotation(char component)
 /// The pose each element's defect applies to, in defectJointElements() order.
 Eigen::Isometry3d& pose(OpticalGeometry& g, std::size_t element)
 {
-  Eigen::Isometry3d* const members[kElementCount] = { &g.source,   &g.mount_x,  &g.mirror_x, &g.mount_y,
-                                                      &g.mirror_y, &g.window_1, &g.window_2, &g.work_plane };
+  Eigen::Isometry3d* const members[kElementCount] = {&g.source,   &g.mount_x,  &g.mirror_x, &g.mount_y,
+                                                     &g.mirror_y, &g.window_1, &g.window_2, &g.work_plane};
   return *members[element];
 }
 }  // namespace
 
 const std::array<const char*, 8>& defectElements()
 {
-  static const std::array<const char*, 8> keys = { "source",   "axis_x",   "mirror_x", "axis_y",
-                                                   "mirror_y", "window_1", "window_2", "work_plane" };
+  static const std::array<const char*, 8> keys = {"source",   "axis_x",   "mirror_x", "axis_y",
+                                                  "mirror_y", "window_1", "window_2", "work_plane"};
   return keys;
 }
 
@@ -66,7 +66,7 @@ const std::array<DefectComponent, kDefectCount>& defectComponents()
   static const std::array<DefectComponent, kDefectCount> components = [] {
     std::array<DefectComponent, kDefectCount> c{};
     for (std::size_t k = 0; k < kDefectCount; ++k)
-      c[k] = DefectComponent{ defectElements()[kMapping[k].element], kMapping[k].component };
+      c[k] = DefectComponent{defectElements()[kMapping[k].element], kMapping[k].component};
     return c;
   }();
   return components;
@@ -103,8 +103,8 @@ bool DefectSet::isNominal() const
 
 const std::array<std::string, 8>& defectJointElements()
 {
-  static const std::array<std::string, 8> names = { "laser_source", "galvo_x_mount", "mirror_x", "galvo_y_mount",
-                                                    "mirror_y",     "window_1",      "window_2", "work_plane" };
+  static const std::array<std::string, 8> names = {"laser_source", "galvo_x_mount", "mirror_x", "galvo_y_mount",
+                                                   "mirror_y",     "window_1",      "window_2", "work_plane"};
   return names;
 }
 
@@ -151,14 +151,14 @@ DefectSet optTable2DefectSet()
   DefectSet set;
   set.name = "opt_table2";
   set.values = {
-    -0.063, -0.085, -0.069, -0.065,         // source y z b c
-    -0.040, -0.023, 0.030,  0.063,  0.053,  // axis_x y z a b c
-    -0.025, -0.062, 0.029,                  // mirror_x z a b
-    -0.099, -0.043, -0.028, 0.018,  -0.035, // axis_y y z a b c
-    0.000,  -0.075, 0.047,                  // mirror_y z a b
-    -0.069, -0.013,                         // window_1 a b
-    0.066,  -0.028,                         // window_2 a b
-    -0.085, 0.011,  -0.045, -0.074, 0.040,  -0.003,  // work_plane x y z a b c
+      -0.063, -0.085, -0.069, -0.065,                  // source y z b c
+      -0.040, -0.023, 0.030,  0.063,  0.053,           // axis_x y z a b c
+      -0.025, -0.062, 0.029,                           // mirror_x z a b
+      -0.099, -0.043, -0.028, 0.018,  -0.035,          // axis_y y z a b c
+      0.000,  -0.075, 0.047,                           // mirror_y z a b
+      -0.069, -0.013,                                  // window_1 a b
+      0.066,  -0.028,                                  // window_2 a b
+      -0.085, 0.011,  -0.045, -0.074, 0.040,  -0.003,  // work_plane x y z a b c
   };
   return set;
 }

@@ -2,12 +2,12 @@
 /// \brief Defect set files: reading (yaml-cpp, every error with file, line and key) and writing.
 #include "scanhead/optics/defect_set_io.hpp"
 
+#include <yaml-cpp/yaml.h>
 #include <array>
 #include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
-#include <yaml-cpp/yaml.h>
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
@@ -85,9 +85,10 @@ DefectSet loadDefectSet(const std::string& path)
   set.name = fileStem(path);
   if (root.IsNull())
     return set;  // empty file: the nominal machine
-  const std::string format = " (a defect set maps elements to {component: value}, mm and mrad, e.g. "
-                             "'mirror_x: {z: -0.025, a: -0.062, b: 0.029}'; elements: " +
-                             elementList() + "; and name)";
+  const std::string format =
+      " (a defect set maps elements to {component: value}, mm and mrad, e.g. "
+      "'mirror_x: {z: -0.025, a: -0.062, b: 0.029}'; elements: " +
+      elementList() + "; and name)";
   if (!root.IsMap())
     throw InputError(where(path, root) + ": not a map" + format);
   std::set<std::string> seen;
@@ -148,7 +149,8 @@ std::string defectSetToYaml(const DefectSet& set)
   YAML::Emitter name;
   name << set.name;
   std::string out =
-      "# scanhead defect set (docs/defects.md): positions in mm (x, y, z), orientations in mrad (a, b, c about x, y, z)\n"
+      "# scanhead defect set (docs/defects.md): positions in mm (x, y, z), orientations in mrad (a, b, c about x, y, "
+      "z)\n"
       "name: " +
       std::string(name.c_str()) + "\n";
   for (std::size_t element = 0; element < kElementCount; ++element)

@@ -34,8 +34,8 @@ DefectSet defectSetByName(const std::string& spec)
     };
     bool has_seed = false;
     std::uint64_t seed = 0;
-    double bounds[2] = { 0.1, 0.1 };
-    bool has_bound[2] = { false, false };
+    double bounds[2] = {0.1, 0.1};
+    bool has_bound[2] = {false, false};
     const std::string rest = spec.size() > 7 ? spec.substr(7) : std::string();
     std::size_t start = 0;
     while (start <= rest.size() && !rest.empty())

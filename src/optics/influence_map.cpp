@@ -25,7 +25,7 @@ std::vector<Eigen::Vector2d> fieldAngleGrid(const OpticalModel& nominal, int gri
     throw InputError("influence map: the grid must have at least 1 point per axis (got " + std::to_string(grid) + ")");
   const double h = nominal.config().field_half_width_m;
   Eigen::Vector2d theta_max = Eigen::Vector2d::Zero();
-  const double boundary[8][2] = { { 1, 1 }, { 1, -1 }, { -1, 1 }, { -1, -1 }, { 1, 0 }, { -1, 0 }, { 0, 1 }, { 0, -1 } };
+  const double boundary[8][2] = {{1, 1}, {1, -1}, {-1, 1}, {-1, -1}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}};
   Eigen::Vector2d guess = Eigen::Vector2d::Zero();
   for (const auto& b : boundary)
   {

@@ -20,9 +20,9 @@ Eigen::Isometry3d toIsometry(const urdf::Pose& pose)
 {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z);
-  t.linear() =
-      Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z).normalized()
-          .toRotationMatrix();
+  t.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)
+                   .normalized()
+                   .toRotationMatrix();
   return t;
 }
 
@@ -30,14 +30,12 @@ class UrdfReader
 {
 public:
   UrdfReader(const urdf::ModelInterfaceSharedPtr& model, const std::string& source_name)
-    : model_(model), source_name_(source_name)
+    : model_(model)
+    , source_name_(source_name)
   {
   }
 
-  [[noreturn]] void fail(const std::string& what) const
-  {
-    throw InputError(source_name_ + ": " + what);
-  }
+  [[noreturn]] void fail(const std::string& what) const { throw InputError(source_name_ + ": " + what); }
 
   urdf::LinkConstSharedPtr link(const std::string& name) const
   {
@@ -94,8 +92,8 @@ public:
     if (std::abs(j->axis.x) > tol || std::abs(j->axis.y) > tol || std::abs(j->axis.z - 1.0) > tol)
     {
       std::ostringstream msg;
-      msg << "joint '" << name << "' axis must be (0, 0, 1) (got (" << j->axis.x << ", " << j->axis.y
-          << ", " << j->axis.z << "))";
+      msg << "joint '" << name << "' axis must be (0, 0, 1) (got (" << j->axis.x << ", " << j->axis.y << ", "
+          << j->axis.z << "))";
       fail(msg.str());
     }
     if (!j->limits || !(j->limits->lower < j->limits->upper))

@@ -51,10 +51,18 @@ inline void sinCos(double x, double& s, double& c)
   }
   // Coefficients (-1)^k / (2k+1)! and (-1)^k / (2k)!, folded at compile time.
   const double z = x * x;
-  s = x + x * z * (-1.0 / 6 + z * (1.0 / 120 + z * (-1.0 / 5040 + z * (1.0 / 362880 + z * (-1.0 / 39916800 +
-      z * (1.0 / 6227020800.0 + z * (-1.0 / 1307674368000.0 + z * (1.0 / 355687428096000.0))))))));
-  c = 1.0 + z * (-0.5 + z * (1.0 / 24 + z * (-1.0 / 720 + z * (1.0 / 40320 + z * (-1.0 / 3628800 +
-      z * (1.0 / 479001600.0 + z * (-1.0 / 87178291200.0 + z * (1.0 / 20922789888000.0))))))));
+  s = x + x * z *
+              (-1.0 / 6 +
+               z * (1.0 / 120 +
+                    z * (-1.0 / 5040 +
+                         z * (1.0 / 362880 + z * (-1.0 / 39916800 +
+                                                  z * (1.0 / 6227020800.0 + z * (-1.0 / 1307674368000.0 +
+                                                                                 z * (1.0 / 355687428096000.0))))))));
+  c = 1.0 + z * (-0.5 + z * (1.0 / 24 +
+                             z * (-1.0 / 720 + z * (1.0 / 40320 +
+                                                    z * (-1.0 / 3628800 + z * (1.0 / 479001600.0 +
+                                                                               z * (-1.0 / 87178291200.0 +
+                                                                                    z * (1.0 / 20922789888000.0))))))));
 }
 
 [[noreturn]] SCANHEAD_COLD void miss(const char* surface)
@@ -70,8 +78,8 @@ inline void sinCos(double x, double& s, double& c)
 /// Moves the ray to the plane {x : (x - point).normal = 0}; \p dnormal, \p dpoint are the
 /// derivatives of the plane w.r.t. joint \p k (ignored for k < 0: fixed plane).
 template <bool kJ>
-double moveToPlane(RayState& r, const Vec3& point, const Vec3& normal, int k, const Vec3& dpoint,
-                   const Vec3& dnormal, const char* surface)
+double moveToPlane(RayState& r, const Vec3& point, const Vec3& normal, int k, const Vec3& dpoint, const Vec3& dnormal,
+                   const char* surface)
 {
   const double den = r.d.dot(normal);
   if (!(std::abs(den) > kMinCosine))
@@ -107,8 +115,8 @@ double moveToPlane(RayState& r, const Vec3& point, const Vec3& normal, int k, co
 
 /// Reflection on a mirror turning with joint k: d' = d - 2 (d.n) n (SPEC §4).
 template <bool kJ>
-void reflect(RayState& r, const Vec3& n_c, const Vec3& n_s, const Vec3& n_0, const Vec3& p_c,
-             const Vec3& p_s, const Vec3& p_0, double angle, int k, const char* surface)
+void reflect(RayState& r, const Vec3& n_c, const Vec3& n_s, const Vec3& n_0, const Vec3& p_c, const Vec3& p_s,
+             const Vec3& p_0, double angle, int k, const char* surface)
 {
   double s;
   double c;
@@ -150,8 +158,7 @@ void reflect(RayState& r, const Vec3& n_c, const Vec3& n_s, const Vec3& n_0, con
 ///   d_g = eta d + (eta c - sqrt(k)) N,  k = 1 - eta^2 (1 - c^2),  and -d_g.N = sqrt(k);
 /// the ray runs e / sqrt(k) inside; Snell at the parallel second face gives back d exactly.
 template <bool kJ>
-void crossPlate(RayState& r, const Vec3& point, const Vec3& normal, double thickness, double eta,
-                const char* surface)
+void crossPlate(RayState& r, const Vec3& point, const Vec3& normal, double thickness, double eta, const char* surface)
 {
   const Vec3 zero = Vec3::Zero();
   moveToPlane<kJ>(r, point, normal, -1, zero, zero, surface);
@@ -184,7 +191,8 @@ void crossPlate(RayState& r, const Vec3& point, const Vec3& normal, double thick
 }  // namespace
 
 OpticalModel::OpticalModel(const OpticalGeometry& geometry, const OpticsConfig& config)
-  : geometry_(geometry), config_(config)
+  : geometry_(geometry)
+  , config_(config)
 {
   source_point_ = geometry_.source.translation();
   source_direction_ = geometry_.source.linear().col(0);
@@ -255,7 +263,7 @@ SCANHEAD_FLATTEN OpticalModel::Ray OpticalModel::trace(const Eigen::Vector2d& q)
 }
 
 SCANHEAD_FLATTEN OpticalModel::Ray OpticalModel::traceWithJacobian(const Eigen::Vector2d& q,
-                                                                    Eigen::Matrix2d& jacobian) const
+                                                                   Eigen::Matrix2d& jacobian) const
 {
   return traceImpl<true>(q, &jacobian);
 }
@@ -304,8 +312,8 @@ Eigen::Vector2d OpticalModel::inverse(const Eigen::Vector2d& spot, const Eigen::
     if (iteration >= config_.newton_max_iterations)
     {
       std::ostringstream why;
-      why << "Newton did not converge in " << config_.newton_max_iterations << " iterations (residual "
-          << residual_m << " m)";
+      why << "Newton did not converge in " << config_.newton_max_iterations << " iterations (residual " << residual_m
+          << " m)";
       throw unreachable(why.str());
     }
     if (refresh)
@@ -332,8 +340,7 @@ Eigen::Vector2d OpticalModel::inverse(const Eigen::Vector2d& spot, const Eigen::
   if (q.x() < lo || q.x() > hi || q.y() < lo || q.y() > hi)
   {
     std::ostringstream why;
-    why << "angles (" << q.x() << ", " << q.y() << ") rad outside the joint limits [" << lo << ", " << hi
-        << "]";
+    why << "angles (" << q.x() << ", " << q.y() << ") rad outside the joint limits [" << lo << ", " << hi << "]";
     throw unreachable(why.str());
   }
   return q;

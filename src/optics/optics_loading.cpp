@@ -17,8 +17,8 @@ OpticalModel loadOpticalModel(const OpticsConfig& config)
 DefectSet loadDefects(const OpticsConfig& config)
 {
   const std::string& spec = config.defects;
-  const bool file = spec.size() > 5 && (spec.compare(spec.size() - 5, 5, ".yaml") == 0 ||
-                                        spec.compare(spec.size() - 4, 4, ".yml") == 0);
+  const bool file = spec.size() > 5 &&
+                    (spec.compare(spec.size() - 5, 5, ".yaml") == 0 || spec.compare(spec.size() - 4, 4, ".yml") == 0);
   return defectSetByName(file ? resolvePackagePath(spec) : spec);
 }
 }  // namespace scanhead

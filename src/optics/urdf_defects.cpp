@@ -33,7 +33,8 @@ std::string tripleText(const Eigen::Vector3d& v)
 class ParsedUrdf
 {
 public:
-  ParsedUrdf(const std::string& text, const std::string& source_name) : text_(text)
+  ParsedUrdf(const std::string& text, const std::string& source_name)
+    : text_(text)
   {
     // A UTF-8 byte order mark: the legacy encoding would not skip it, so parse after it.
     const std::size_t skip = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
@@ -51,8 +52,7 @@ public:
     document_.Parse(text.c_str() + skip, nullptr, TIXML_ENCODING_LEGACY);
     if (document_.Error())
       throw InputError(source_name + ": not well-formed XML (TinyXML: " + document_.ErrorDesc() + ", line " +
-                       std::to_string(document_.ErrorRow()) + ", column " + std::to_string(document_.ErrorCol()) +
-                       ")");
+                       std::to_string(document_.ErrorRow()) + ", column " + std::to_string(document_.ErrorCol()) + ")");
   }
 
   const TiXmlDocument& document() const { return document_; }
@@ -151,7 +151,7 @@ std::string urdfWithDefects(const std::string& nominal_urdf, const DefectSet& se
     {
       // A set replaces the defect joints of the NOMINAL head: a URDF that already carries a
       // defect would silently lose it (defects nominal keeps such a URDF as it is).
-      for (const char* key : { "xyz", "rpy" })
+      for (const char* key : {"xyz", "rpy"})
       {
         const char* value = present->Attribute(key);
         std::istringstream numbers(value ? value : "");
@@ -164,7 +164,7 @@ std::string urdfWithDefects(const std::string& nominal_urdf, const DefectSet& se
         }
       }
       const std::size_t at = urdf.begin(*present);
-      edits.push_back({ at, urdf.end(*present) - at, origin });
+      edits.push_back({at, urdf.end(*present) - at, origin});
     }
     else
     {
@@ -175,9 +175,9 @@ std::string urdfWithDefects(const std::string& nominal_urdf, const DefectSet& se
       const std::string indent = nominal_urdf.substr(line_start, close - line_start);
       const bool blank = indent.find_first_not_of(" \t") == std::string::npos;
       if (blank)
-        edits.push_back({ line_start, 0, indent + "  " + origin + "\n" });
+        edits.push_back({line_start, 0, indent + "  " + origin + "\n"});
       else
-        edits.push_back({ close, 0, origin });
+        edits.push_back({close, 0, origin});
     }
   }
   std::string out = nominal_urdf;

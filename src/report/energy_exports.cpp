@@ -6,8 +6,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "scanhead/report/colour_map.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/report/colour_map.hpp"
 #include "scanhead/report/png_writer.hpp"
 #include "scanhead/report/tiff_writer.hpp"
 
@@ -18,7 +18,6 @@ namespace fs = std::filesystem;
 namespace
 {
 constexpr int kColourSide = 2000;  // px; larger crops are shown by block maxima
-
 
 }  // namespace
 
@@ -43,29 +42,40 @@ double writeFieldImages(const std::string& dir_text, const std::string& stem, co
   tiff.description = units.quantity + ", " + description + ", pixel " + fullPrecisionText(map.pixel()) + " m";
   writeFloatTiff((dir / (stem + ".tiff")).string(), map.width(), map.height(), top_down.data(), tiff);
   writeTextFile(dir / (stem + ".yaml"),
-            "# " + description + "\n"
-            "# values: " + units.quantity + "\n"
-            "# " + stem + "_16bit.png: value = pixel / 65535 * " + units.scale_key + ", row 0 = top (+y up)\n"
-            "# " + stem + ".png: inferno colour map, colour bar on the right from 0 (bottom) to " + units.scale_key + " (top)\n"
-            "# " + stem + ".tiff: float32 values, row 0 = top, GeoTIFF pixel scale and tie point in metres\n"
-            "width: " + std::to_string(map.width()) + "\nheight: " + std::to_string(map.height()) +
-            "\npixel_m: " + fullPrecisionText(map.pixel()) + "\norigin_m: [" + fullPrecisionText(map.origin().x()) +
-            ", " + fullPrecisionText(map.origin().y()) + "]  # lower-left corner\n" + units.scale_key + ": " +
-            fullPrecisionText(scale) + "\ncolour_image_block: " + std::to_string(layout.block) +
-            "  # pixels per colour-image pixel (block maximum)\n");
+                "# " + description +
+                    "\n"
+                    "# values: " +
+                    units.quantity +
+                    "\n"
+                    "# " +
+                    stem + "_16bit.png: value = pixel / 65535 * " + units.scale_key +
+                    ", row 0 = top (+y up)\n"
+                    "# " +
+                    stem + ".png: inferno colour map, colour bar on the right from 0 (bottom) to " + units.scale_key +
+                    " (top)\n"
+                    "# " +
+                    stem +
+                    ".tiff: float32 values, row 0 = top, GeoTIFF pixel scale and tie point in metres\n"
+                    "width: " +
+                    std::to_string(map.width()) + "\nheight: " + std::to_string(map.height()) + "\npixel_m: " +
+                    fullPrecisionText(map.pixel()) + "\norigin_m: [" + fullPrecisionText(map.origin().x()) + ", " +
+                    fullPrecisionText(map.origin().y()) + "]  # lower-left corner\n" + units.scale_key + ": " +
+                    fullPrecisionText(scale) + "\ncolour_image_block: " + std::to_string(layout.block) +
+                    "  # pixels per colour-image pixel (block maximum)\n");
   return scale;
 }
 
-void writeEnergyExports(const std::string& dir_text, const TiledEnergyMap& map, const Job& job, const EnergyConfig& config)
+void writeEnergyExports(const std::string& dir_text, const TiledEnergyMap& map, const Job& job,
+                        const EnergyConfig& config)
 {
   const fs::path dir(dir_text);
   const int factor = map.overviewFactor(kOverviewSide);
   const EnergyMap overview = map.overview(factor);
   writeFieldImages(dir.string(), "energy_map", overview,
-                    factor == 1 ? "the whole map at full resolution"
-                                : "overview: means of " + std::to_string(factor) + " x " + std::to_string(factor) +
-                                      " pixels of the " + fullPrecisionText(map.pixel()) + " m map (full-resolution peak " +
-                                      fullPrecisionText(map.peak()) + " J/m^2)");
+                   factor == 1 ? "the whole map at full resolution"
+                               : "overview: means of " + std::to_string(factor) + " x " + std::to_string(factor) +
+                                     " pixels of the " + fullPrecisionText(map.pixel()) +
+                                     " m map (full-resolution peak " + fullPrecisionText(map.peak()) + " J/m^2)");
   std::vector<MapRegion> crops = jobParts(job, 2.0 * config.spot_diameter_m);
   if (crops.size() > config.crop_parts)
     crops.resize(config.crop_parts);
@@ -83,9 +93,10 @@ void writeEnergyExports(const std::string& dir_text, const TiledEnergyMap& map, 
     const auto row1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.y() - map.origin().y()) / p));
     const int factor = TiledEnergyMap::blockFactor(col1 - col0, row1 - row0, kCropSide);
     writeFieldImages((dir / "crops").string(), crop.name, map.region(col0, row0, col1 - col0, row1 - row0, factor),
-                     factor == 1 ? crop.name + " at full resolution"
-                                 : crop.name + ": means of " + std::to_string(factor) + " x " + std::to_string(factor) +
-                                       " pixels (over " + std::to_string(kCropSide) + " pixels a side at full resolution)");
+                     factor == 1
+                         ? crop.name + " at full resolution"
+                         : crop.name + ": means of " + std::to_string(factor) + " x " + std::to_string(factor) +
+                               " pixels (over " + std::to_string(kCropSide) + " pixels a side at full resolution)");
   }
 }
 }  // namespace scanhead

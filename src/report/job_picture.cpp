@@ -22,7 +22,9 @@ class Coverage
 {
 public:
   Coverage(int width, int height)
-    : width_(width), height_(height), c_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), 0)
+    : width_(width)
+    , height_(height)
+    , c_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), 0)
   {
   }
 

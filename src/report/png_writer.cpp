@@ -55,9 +55,8 @@ void checkSize(int width, int height, std::size_t have, std::size_t per_pixel)
   const std::size_t want = static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * per_pixel;
   if (have != want)
   {
-    throw std::invalid_argument("png: pixel buffer holds " + std::to_string(have) + " values, " +
-                                std::to_string(want) + " expected for " + std::to_string(width) + " x " +
-                                std::to_string(height));
+    throw std::invalid_argument("png: pixel buffer holds " + std::to_string(have) + " values, " + std::to_string(want) +
+                                " expected for " + std::to_string(width) + " x " + std::to_string(height));
   }
 }
 
@@ -65,7 +64,7 @@ void checkSize(int width, int height, std::size_t have, std::size_t per_pixel)
 std::vector<std::uint8_t> assemble(int width, int height, std::uint8_t bit_depth, std::uint8_t colour_type,
                                    const std::vector<std::uint8_t>& scanlines)
 {
-  std::vector<std::uint8_t> out = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n' };
+  std::vector<std::uint8_t> out = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
   std::vector<std::uint8_t> ihdr;
   putU32(ihdr, static_cast<std::uint32_t>(width));
   putU32(ihdr, static_cast<std::uint32_t>(height));

@@ -24,14 +24,16 @@ void writeThermalImages(const std::string& dir, const ThermalLayer& thermal)
 {
   const ThermalWindow window = thermal.window();
   if (window.width > 0 && window.height > 0)
-    writeFieldImages(dir, "thermal_temperature",
-                     cellMap(window.cell_m, window.origin_i, window.origin_j, window.width, window.height, window.rise_k),
-                     "the thermal window at the end of its time window",
-                     FieldUnits{ "temperature rise over the bed [K]", "scale_max_k" });
+    writeFieldImages(
+        dir, "thermal_temperature",
+        cellMap(window.cell_m, window.origin_i, window.origin_j, window.width, window.height, window.rise_k),
+        "the thermal window at the end of its time window",
+        FieldUnits{"temperature rise over the bed [K]", "scale_max_k"});
   const MeltedRaster melted = thermal.meltedRaster();
   if (melted.count > 0 && melted.width > 0 && melted.height > 0)
-    writeFieldImages(dir, "thermal_melted",
-                     cellMap(melted.cell_m, melted.origin_i, melted.origin_j, melted.width, melted.height, melted.melted),
-                     "cells melted at least once", FieldUnits{ "melted (1) or powder (0)", "scale_max" });
+    writeFieldImages(
+        dir, "thermal_melted",
+        cellMap(melted.cell_m, melted.origin_i, melted.origin_j, melted.width, melted.height, melted.melted),
+        "cells melted at least once", FieldUnits{"melted (1) or powder (0)", "scale_max"});
 }
 }  // namespace scanhead

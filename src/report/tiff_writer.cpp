@@ -66,7 +66,7 @@ struct Entry
 
 Entry shorts(std::uint16_t tag, const std::vector<std::uint16_t>& values)
 {
-  Entry e{ tag, kShort, static_cast<std::uint32_t>(values.size()), {} };
+  Entry e{tag, kShort, static_cast<std::uint32_t>(values.size()), {}};
   for (std::uint16_t v : values)
     putU16(e.bytes, v);
   return e;
@@ -74,7 +74,7 @@ Entry shorts(std::uint16_t tag, const std::vector<std::uint16_t>& values)
 
 Entry longs(std::uint16_t tag, const std::vector<std::uint32_t>& values)
 {
-  Entry e{ tag, kLong, static_cast<std::uint32_t>(values.size()), {} };
+  Entry e{tag, kLong, static_cast<std::uint32_t>(values.size()), {}};
   for (std::uint32_t v : values)
     putU32(e.bytes, v);
   return e;
@@ -82,7 +82,7 @@ Entry longs(std::uint16_t tag, const std::vector<std::uint32_t>& values)
 
 Entry doubles(std::uint16_t tag, const std::vector<double>& values)
 {
-  Entry e{ tag, kDouble, static_cast<std::uint32_t>(values.size()), {} };
+  Entry e{tag, kDouble, static_cast<std::uint32_t>(values.size()), {}};
   for (double v : values)
     putF64(e.bytes, v);
   return e;
@@ -113,7 +113,7 @@ Entry rational(std::uint16_t tag, double x, const char* what)
       break;
     v = 1.0 / f;
   }
-  Entry e{ tag, kRational, 1, {} };
+  Entry e{tag, kRational, 1, {}};
   putU32(e.bytes, static_cast<std::uint32_t>(h));
   putU32(e.bytes, static_cast<std::uint32_t>(k));
   return e;
@@ -122,7 +122,8 @@ Entry rational(std::uint16_t tag, double x, const char* what)
 void checkScale(double v, const char* name)
 {
   if (!(v > 0.0) || !std::isfinite(v))
-    throw std::invalid_argument(std::string("tiff: ") + name + " must be finite and > 0 (got " + fullPrecisionText(v) + ")");
+    throw std::invalid_argument(std::string("tiff: ") + name + " must be finite and > 0 (got " + fullPrecisionText(v) +
+                                ")");
 }
 }  // namespace
 
@@ -140,13 +141,15 @@ std::vector<std::uint8_t> encodeFloatTiff(int width, int height, const float* da
   if (!std::isfinite(scale.x_left_m) || !std::isfinite(scale.y_top_m))
   {
     throw std::invalid_argument("tiff: the image position must be finite (got x_left_m " +
-                                fullPrecisionText(scale.x_left_m) + ", y_top_m " + fullPrecisionText(scale.y_top_m) + ")");
+                                fullPrecisionText(scale.x_left_m) + ", y_top_m " + fullPrecisionText(scale.y_top_m) +
+                                ")");
   }
   for (char c : scale.description)
   {
     const unsigned char u = static_cast<unsigned char>(c);
     if (u == 0 || u > 127)
-      throw std::invalid_argument("tiff: the description must be 7-bit ASCII without NUL: \"" + scale.description + "\"");
+      throw std::invalid_argument("tiff: the description must be 7-bit ASCII without NUL: \"" + scale.description +
+                                  "\"");
   }
 
   const std::uint64_t row_bytes = 4ull * static_cast<std::uint64_t>(width);
@@ -164,40 +167,41 @@ std::vector<std::uint8_t> encodeFloatTiff(int width, int height, const float* da
   std::vector<std::uint32_t> strip_counts(strips), strip_offsets(strips, 0);
   for (std::uint64_t s = 0; s < strips; ++s)
   {
-    const std::uint64_t rows = std::min<std::uint64_t>(rows_per_strip, static_cast<std::uint64_t>(height) - s * rows_per_strip);
+    const std::uint64_t rows =
+        std::min<std::uint64_t>(rows_per_strip, static_cast<std::uint64_t>(height) - s * rows_per_strip);
     strip_counts[s] = static_cast<std::uint32_t>(rows * row_bytes);
   }
 
   std::vector<Entry> entries;
-  entries.push_back(longs(256, { static_cast<std::uint32_t>(width) }));
-  entries.push_back(longs(257, { static_cast<std::uint32_t>(height) }));
-  entries.push_back(shorts(258, { 32 }));  // BitsPerSample
-  entries.push_back(shorts(259, { 1 }));   // Compression: none
-  entries.push_back(shorts(262, { 1 }));   // PhotometricInterpretation: BlackIsZero
+  entries.push_back(longs(256, {static_cast<std::uint32_t>(width)}));
+  entries.push_back(longs(257, {static_cast<std::uint32_t>(height)}));
+  entries.push_back(shorts(258, {32}));  // BitsPerSample
+  entries.push_back(shorts(259, {1}));   // Compression: none
+  entries.push_back(shorts(262, {1}));   // PhotometricInterpretation: BlackIsZero
   if (!scale.description.empty())
   {
-    Entry e{ 270, kAscii, static_cast<std::uint32_t>(scale.description.size() + 1), {} };
+    Entry e{270, kAscii, static_cast<std::uint32_t>(scale.description.size() + 1), {}};
     e.bytes.assign(scale.description.begin(), scale.description.end());
     e.bytes.push_back(0);
     entries.push_back(e);
   }
   const std::size_t strip_offsets_entry = entries.size();
   entries.push_back(longs(273, strip_offsets));  // StripOffsets, filled in below
-  entries.push_back(shorts(277, { 1 }));         // SamplesPerPixel
-  entries.push_back(longs(278, { static_cast<std::uint32_t>(rows_per_strip) }));
-  entries.push_back(longs(279, strip_counts));   // StripByteCounts
+  entries.push_back(shorts(277, {1}));           // SamplesPerPixel
+  entries.push_back(longs(278, {static_cast<std::uint32_t>(rows_per_strip)}));
+  entries.push_back(longs(279, strip_counts));  // StripByteCounts
   entries.push_back(rational(282, 0.01 / scale.pixel_x_m, "XResolution"));
   entries.push_back(rational(283, 0.01 / scale.pixel_y_m, "YResolution"));
-  entries.push_back(shorts(284, { 1 }));  // PlanarConfiguration: chunky
-  entries.push_back(shorts(296, { 3 }));  // ResolutionUnit: centimetre
-  entries.push_back(shorts(339, { 3 }));  // SampleFormat: IEEE floating point
-  entries.push_back(doubles(33550, { scale.pixel_x_m, scale.pixel_y_m, 0.0 }));  // ModelPixelScaleTag
-  entries.push_back(doubles(33922, { 0.0, 0.0, 0.0, scale.x_left_m, scale.y_top_m, 0.0 }));  // ModelTiepointTag
+  entries.push_back(shorts(284, {1}));                                         // PlanarConfiguration: chunky
+  entries.push_back(shorts(296, {3}));                                         // ResolutionUnit: centimetre
+  entries.push_back(shorts(339, {3}));                                         // SampleFormat: IEEE floating point
+  entries.push_back(doubles(33550, {scale.pixel_x_m, scale.pixel_y_m, 0.0}));  // ModelPixelScaleTag
+  entries.push_back(doubles(33922, {0.0, 0.0, 0.0, scale.x_left_m, scale.y_top_m, 0.0}));  // ModelTiepointTag
   // GeoKeyDirectoryTag: version 1.1.0, 3 keys (id, location 0 = value inline, count 1, value).
-  entries.push_back(shorts(34735, { 1, 1, 0, 3,           //
-                                    1024, 0, 1, 32767,    // GTModelTypeGeoKey: user-defined (local)
-                                    1025, 0, 1, 1,        // GTRasterTypeGeoKey: PixelIsArea
-                                    3076, 0, 1, 9001 }));  // ProjLinearUnitsGeoKey: metre
+  entries.push_back(shorts(34735, {1, 1, 0, 3,           //
+                                   1024, 0, 1, 32767,    // GTModelTypeGeoKey: user-defined (local)
+                                   1025, 0, 1, 1,        // GTRasterTypeGeoKey: PixelIsArea
+                                   3076, 0, 1, 9001}));  // ProjLinearUnitsGeoKey: metre
 
   // Layout: header, IFD, out-of-line values (each at an 8-byte boundary), strips.
   auto align8 = [](std::size_t n) { return (n + 7) & ~static_cast<std::size_t>(7); };

@@ -17,7 +17,8 @@ public:
   /// \param[in] queue_size publisher queue; the flow-control window keeps the traffic below it
   ChunkOutlet(ros::NodeHandle& nh, const std::string& topic, std::uint32_t expected_subscribers,
               std::uint32_t queue_size = 1000, bool latch = false)
-    : publisher_(nh.advertise<Message>(topic, queue_size, latch)), expected_(expected_subscribers)
+    : publisher_(nh.advertise<Message>(topic, queue_size, latch))
+    , expected_(expected_subscribers)
   {
   }
 

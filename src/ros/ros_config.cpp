@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <sstream>
 
-#include "scanhead/optics/optics_loading.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/optics/optics_loading.hpp"
 
 namespace scanhead
 {
@@ -69,10 +69,9 @@ std::unique_ptr<OpticalModel> opticalModelFromParams(const ros::NodeHandle& nh, 
   // file's urdf:= and defects:= set both): every frame and the joint range, to 1e-12.
   const OpticalGeometry& got = model->geometry();
   const OpticalGeometry want = loadOpticalModel(config).geometry();
-  const Eigen::Isometry3d OpticalGeometry::*frames[] = { &OpticalGeometry::source,   &OpticalGeometry::mount_x,
-                                                          &OpticalGeometry::mirror_x, &OpticalGeometry::mount_y,
-                                                          &OpticalGeometry::mirror_y, &OpticalGeometry::window_1,
-                                                          &OpticalGeometry::window_2, &OpticalGeometry::work_plane };
+  const Eigen::Isometry3d OpticalGeometry::*frames[] = {
+      &OpticalGeometry::source,   &OpticalGeometry::mount_x,  &OpticalGeometry::mirror_x, &OpticalGeometry::mount_y,
+      &OpticalGeometry::mirror_y, &OpticalGeometry::window_1, &OpticalGeometry::window_2, &OpticalGeometry::work_plane};
   double worst = std::max(std::abs(got.joint_lower_rad - want.joint_lower_rad),
                           std::abs(got.joint_upper_rad - want.joint_upper_rad));
   for (const auto frame : frames)

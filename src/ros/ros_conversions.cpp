@@ -58,7 +58,8 @@ Job fromMsg(const ScanJob& msg)
     line.power_w = p.power;
     line.dwell_s = p.dwell;
     line.role = p.role == ScanPolyline::CONTOUR ? PolylineRole::Contour
-                : p.role == ScanPolyline::HATCH ? PolylineRole::Hatch : PolylineRole::Unspecified;
+                : p.role == ScanPolyline::HATCH ? PolylineRole::Hatch
+                                                : PolylineRole::Unspecified;
     for (std::size_t k = 0; k < p.x.size(); ++k)
       line.points.emplace_back(p.x[k], p.y[k]);
     job.polylines.push_back(std::move(line));
@@ -80,7 +81,8 @@ ScanJob toMsg(const Job& job, std::uint32_t job_id)
     p.power = line.power_w;
     p.dwell = line.dwell_s;
     p.role = line.role == PolylineRole::Contour ? ScanPolyline::CONTOUR
-             : line.role == PolylineRole::Hatch ? ScanPolyline::HATCH : ScanPolyline::UNSPECIFIED;
+             : line.role == PolylineRole::Hatch ? ScanPolyline::HATCH
+                                                : ScanPolyline::UNSPECIFIED;
     for (const Eigen::Vector2d& q : line.points)
     {
       p.x.push_back(q.x());
@@ -271,12 +273,13 @@ NcJobPlan toMsg(const NcPlan& plan, std::uint32_t job_id, const std::string& set
 NcPlan fromMsg(const NcJobPlan& msg)
 {
   const std::size_t n = msg.start_x.size();
-  for (std::size_t size : {msg.start_y.size(), msg.end_x.size(), msg.end_y.size(), msg.speed_mps.size(),
-                           msg.power_w.size(), msg.duration_s.size(), msg.length_m.size(), msg.flags.size(),
-                           msg.polyline.size(), msg.vertex.size()})
+  for (std::size_t size :
+       {msg.start_y.size(), msg.end_x.size(), msg.end_y.size(), msg.speed_mps.size(), msg.power_w.size(),
+        msg.duration_s.size(), msg.length_m.size(), msg.flags.size(), msg.polyline.size(), msg.vertex.size()})
   {
     if (size != n)
-      throw std::invalid_argument("nc/plan of job " + std::to_string(msg.job_id) + ": segment arrays of different lengths");
+      throw std::invalid_argument("nc/plan of job " + std::to_string(msg.job_id) +
+                                  ": segment arrays of different lengths");
   }
   std::vector<PathSegment> segments(n);
   for (std::size_t k = 0; k < n; ++k)

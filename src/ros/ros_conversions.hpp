@@ -4,8 +4,8 @@
 
 #include <scanhead/JointStreamChunk.h>
 #include <scanhead/NcDebug.h>
-#include <scanhead/NcLaser.h>
 #include <scanhead/NcJobPlan.h>
+#include <scanhead/NcLaser.h>
 #include <scanhead/NcSetpoint.h>
 #include <scanhead/ScanJob.h>
 #include <scanhead/SpotStream.h>

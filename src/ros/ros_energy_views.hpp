@@ -7,9 +7,9 @@
 #include <sensor_msgs/Image.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "scanhead/chain/trace_recorder.hpp"
 #include "scanhead/energy/energy_map.hpp"
 #include "scanhead/job/scan_job.hpp"
-#include "scanhead/chain/trace_recorder.hpp"
 
 namespace scanhead
 {

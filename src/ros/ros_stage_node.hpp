@@ -55,9 +55,11 @@ public:
   /// \param[in] stage   kept by reference (must outlive this)
   /// \param[in] topics  one input topic per message type, in order
   /// \param[in] name    the node's name in log lines
-  StageNodeAdapter(ros::NodeHandle& nh, StageT& stage, const std::array<std::string, kInputs>& topics,
-                   Binding binding, std::string name)
-    : stage_(stage), binding_(std::move(binding)), name_(std::move(name))
+  StageNodeAdapter(ros::NodeHandle& nh, StageT& stage, const std::array<std::string, kInputs>& topics, Binding binding,
+                   std::string name)
+    : stage_(stage)
+    , binding_(std::move(binding))
+    , name_(std::move(name))
   {
     subscribeAll(nh, topics, std::index_sequence_for<InMsgs...>());
   }
@@ -141,9 +143,10 @@ private:
     running_ = true;
     started_once_ = true;
     if (header.first_index != 0)
-      ROS_ERROR("%s: job %u starts at sample %llu: the first samples were lost upstream (a stage that "
-                "connected late?); they are counted as dropped",
-                name_.c_str(), job_id_, static_cast<unsigned long long>(header.first_index));
+      ROS_ERROR(
+          "%s: job %u starts at sample %llu: the first samples were lost upstream (a stage that "
+          "connected late?); they are counted as dropped",
+          name_.c_str(), job_id_, static_cast<unsigned long long>(header.first_index));
     return true;
   }
 
@@ -154,11 +157,12 @@ private:
     const std::uint64_t expected = sequence_.next();
     const ChunkAdmission admission = sequence_.admit(header.first_index, chunkSize(messages));
     if (admission.broken(started) || admission.skip > 0)
-      ROS_ERROR("%s: job %u: expected sample %llu, got a chunk at %llu (%llu samples missing, %zu already seen: "
-                "gap or reordering upstream; counted)",
-                name_.c_str(), job_id_, static_cast<unsigned long long>(expected),
-                static_cast<unsigned long long>(header.first_index),
-                static_cast<unsigned long long>(admission.missing), admission.skip);
+      ROS_ERROR(
+          "%s: job %u: expected sample %llu, got a chunk at %llu (%llu samples missing, %zu already seen: "
+          "gap or reordering upstream; counted)",
+          name_.c_str(), job_id_, static_cast<unsigned long long>(expected),
+          static_cast<unsigned long long>(header.first_index), static_cast<unsigned long long>(admission.missing),
+          admission.skip);
     if (!running_ || (admission.skip > 0 && admission.skip == chunkSize(messages)))
       return;  // nothing new
     try

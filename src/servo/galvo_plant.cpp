@@ -37,7 +37,8 @@ void GalvoPlantParams::validate(const std::string& prefix) const
   requireSetting(supply_voltage_v > 0.0, p + "supply_voltage_v", "> 0", supply_voltage_v);
 }
 
-GalvoPlant::GalvoPlant(const GalvoPlantParams& params) : params_(params)
+GalvoPlant::GalvoPlant(const GalvoPlantParams& params)
+  : params_(params)
 {
   params_.validate("plant");
 }
@@ -135,7 +136,8 @@ void GalvoPlant::advanceLevel(int level, double voltage_v)
       if (finest || sign(trial[1]) == sign(drive))
       {
         x_ = trial;
-        if (sign(x_[1]) == -sign(drive)) x_[1] = 0.0;
+        if (sign(x_[1]) == -sign(drive))
+          x_[1] = 0.0;
         return;
       }
     }
@@ -151,7 +153,8 @@ void GalvoPlant::advanceLevel(int level, double voltage_v)
     if (finest)
     {
       x_ = trial;
-      if (std::abs(driveTorque(x_)) <= tc) x_[1] = 0.0;  // stopped and held by static friction
+      if (std::abs(driveTorque(x_)) <= tc)
+        x_[1] = 0.0;  // stopped and held by static friction
       return;
     }
   }

@@ -6,8 +6,8 @@
 #include <memory>
 #include <sstream>
 
-#include "scanhead/servo/cascade_axis.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/servo/cascade_axis.hpp"
 #include "scanhead/servo/foh_discretisation.hpp"
 
 namespace scanhead
@@ -88,7 +88,7 @@ ClosedLoopAxis::ClosedLoopAxis(const AxisLoopConfig& config, double period_s, do
 {
   // State (θ, θ'/ωn, η): θ'' = ωn²(η − θ) − 2ζωn θ', η' = p(u − η).
   Eigen::MatrixXd a(3, 3);
-  a << 0.0, wn_, 0.0,             //
+  a << 0.0, wn_, 0.0,                 //
       -wn_, -2.0 * zeta_ * wn_, wn_,  //
       0.0, 0.0, -p_;
   Eigen::MatrixXd b(3, 1);
@@ -154,8 +154,7 @@ std::unique_ptr<AxisModel> makeAxisModel(const ServoConfig& config, int axis, do
   if (config.model == "cascade")
   {
     return std::make_unique<CascadeAxis>(loop, period_s, config.controller_rate_hz,
-                                         config.feedforward_derivatives == "differentiate",
-                                         config.voltage_feedforward);
+                                         config.feedforward_derivatives == "differentiate", config.voltage_feedforward);
   }
   // The first-order hold assumes the setpoint is smooth at the sample rate; a loop faster than a
   // fifth of the sample rate would make that assumption (not the discretisation) the error.
@@ -163,8 +162,8 @@ std::unique_ptr<AxisModel> makeAxisModel(const ServoConfig& config, int axis, do
   if (!(loop.bandwidth_hz < limit_hz))
   {
     std::ostringstream msg;
-    msg << "servo." << name << ".bandwidth_hz must be < 0.2 / period_s = " << limit_hz << " (got "
-        << loop.bandwidth_hz << ")";
+    msg << "servo." << name << ".bandwidth_hz must be < 0.2 / period_s = " << limit_hz << " (got " << loop.bandwidth_hz
+        << ")";
     throw ConfigError(msg.str());
   }
   return std::make_unique<ClosedLoopAxis>(loop, period_s, config.kc_over_jeq);
@@ -183,7 +182,9 @@ double axisLowFrequencyDelay(const AxisModel& model)
   throw NumericalError("axisLowFrequencyDelay: unknown axis model");
 }
 
-GalvoServo::GalvoServo(const ServoConfig& config, double period_s) : config_(config), period_s_(period_s)
+GalvoServo::GalvoServo(const ServoConfig& config, double period_s)
+  : config_(config)
+  , period_s_(period_s)
 {
   for (int a = 0; a < 2; ++a)
   {

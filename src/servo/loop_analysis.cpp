@@ -65,8 +65,10 @@ double unwrappedPhaseDeg(const std::function<Complex(double)>& f, double w_lo, d
     const double wk = w_lo * std::pow(w / w_lo, static_cast<double>(k) / n);
     const double a = std::arg(f(wk));
     double d = a - prev;
-    while (d > kPi) d -= 2.0 * kPi;
-    while (d < -kPi) d += 2.0 * kPi;
+    while (d > kPi)
+      d -= 2.0 * kPi;
+    while (d < -kPi)
+      d += 2.0 * kPi;
     phase += d;
     prev = a;
   }
@@ -93,7 +95,10 @@ constexpr double kLowW = 1e-2;  ///< start of the phase unwrapping [rad/s]
 
 CascadeLoops::CascadeLoops(const GalvoPlantParams& plant, const CascadeGains& gains, double controller_period_s,
                            bool voltage_feedforward)
-  : p_(plant), g_(gains), tc_(controller_period_s), voltage_ff_(voltage_feedforward)
+  : p_(plant)
+  , g_(gains)
+  , tc_(controller_period_s)
+  , voltage_ff_(voltage_feedforward)
 {
 }
 
@@ -298,7 +303,8 @@ std::string loopsReportYaml(const ServoConfig& config, int axis)
   out << std::setprecision(6);
   out << "axis: " << (axis == 0 ? "x" : "y") << "\n";
   out << "controller_rate_hz: " << r.controller_rate_hz << "\n";
-  out << "bandwidth_hz: " << r.bandwidth_hz << "            # -3 dB of theta/theta_ref, feedback only (THESIS Fig. 2.40)\n";
+  out << "bandwidth_hz: " << r.bandwidth_hz
+      << "            # -3 dB of theta/theta_ref, feedback only (THESIS Fig. 2.40)\n";
   out << "voltage_feedforward: " << (config.voltage_feedforward ? "true" : "false") << "\n";
   out << "bandwidth_with_feedforward_hz: " << r.bandwidth_with_feedforward_hz << "\n";
   out << "peak_with_feedforward_db: " << r.peak_with_feedforward_db << "\n";

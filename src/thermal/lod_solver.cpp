@@ -19,8 +19,7 @@ LossHalfStep lossHalfStep(double dt_s, double loss_w_m3k, const CellMaterials& m
   return f;
 }
 
-void lodSweepX(LayerWindow& window, const CellBox& b, bool first, double dt_s, const LossHalfStep& loss,
-               double& lost_j)
+void lodSweepX(LayerWindow& window, const CellBox& b, bool first, double dt_s, const LossHalfStep& loss, double& lost_j)
 {
   const int n = window.n;
   const double r0 = dt_s / (window.cell_m * window.cell_m);
@@ -81,8 +80,7 @@ void lodSweepX(LayerWindow& window, const CellBox& b, bool first, double dt_s, c
   lost_j += lost;
 }
 
-void lodSweepY(LayerWindow& window, const CellBox& b, bool first, double dt_s, const LossHalfStep& loss,
-               double& lost_j)
+void lodSweepY(LayerWindow& window, const CellBox& b, bool first, double dt_s, const LossHalfStep& loss, double& lost_j)
 {
   const int n = window.n;
   const double r0 = dt_s / (window.cell_m * window.cell_m);

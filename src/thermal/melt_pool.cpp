@@ -14,8 +14,8 @@ constexpr int kRefineHalvings = 3;           // then the bracket is halved 3 tim
 constexpr double kWidthStationsCells = 1.0;  // spacing of the cross-track marches [cells]
 }  // namespace
 
-void measureMeltPool(const LayerWindow& window, int peak_i, int peak_j, const Eigen::Vector2d& dir,
-                     double melt_rise_k, ThermalStep& step)
+void measureMeltPool(const LayerWindow& window, int peak_i, int peak_j, const Eigen::Vector2d& dir, double melt_rise_k,
+                     ThermalStep& step)
 {
   const double melt_rise = melt_rise_k;
   const double u0 = peak_i + 0.5, v0 = peak_j + 0.5;

@@ -51,7 +51,7 @@ double steadyMovingSpotRise(const ThermalConfig& config, double power_w, double 
     return std::exp(-t / tau - (dx * dx + eta_m * eta_m) / (2.0 * s2)) / (2.0 * M_PI * s2);
   };
   // Breakpoints: geometric from the spot's diffusion time, and around the passage time −ξ/v.
-  std::vector<double> br{ 0.0 };
+  std::vector<double> br{0.0};
   const double t_end = 60.0 * tau;
   for (double t = s0 / (2.0 * a) / 64.0; t < t_end; t *= 2.0)
     br.push_back(t);
@@ -60,7 +60,7 @@ double steadyMovingSpotRise(const ThermalConfig& config, double power_w, double 
   {
     const double tc = -xi_m / v;
     const double sig = std::sqrt(s0 + 2.0 * a * tc) / v;
-    for (double k : { -6.0, -2.0, 0.0, 2.0, 6.0 })
+    for (double k : {-6.0, -2.0, 0.0, 2.0, 6.0})
     {
       const double t = tc + k * sig;
       if (t > 0.0 && t < t_end)

@@ -29,7 +29,7 @@ void ThermalConfig::validate() const
   requireSetting(ambient_temperature_k > 0.0, "thermal.ambient_temperature_k", "> 0", ambient_temperature_k);
   requireSetting(melt_temperature_k > ambient_temperature_k, "thermal.melt_temperature_k",
                  "> thermal.ambient_temperature_k", melt_temperature_k);
-  requireChoice(phase_switch, "thermal.phase_switch", { "keep_temperature", "keep_energy", "consolidate" });
+  requireChoice(phase_switch, "thermal.phase_switch", {"keep_temperature", "keep_energy", "consolidate"});
   requireSetting(absorptivity > 0.0 && absorptivity <= 1.0, "thermal.absorptivity", "in (0, 1]", absorptivity);
   requireSetting(spot_diameter_m > 0.0, "thermal.spot_diameter_m", "> 0", spot_diameter_m);
   requireSetting(source_truncation_radii >= 2.0, "thermal.source_truncation_radii", ">= 2", source_truncation_radii);
@@ -38,12 +38,11 @@ void ThermalConfig::validate() const
   // At least one cell per radius, or the sampled Gaussian is a single cell.
   requireSetting(cell_m <= 0.5 * spot_diameter_m, "thermal.cell_m", "<= spot_diameter_m/2", cell_m);
   requireSetting(recentre_margin_m >= source_truncation_radii * 0.5 * spot_diameter_m, "thermal.recentre_margin_m",
-                 ">= source_truncation_radii·spot_diameter_m/2 (the footprint stays in the window)",
-                 recentre_margin_m);
+                 ">= source_truncation_radii·spot_diameter_m/2 (the footprint stays in the window)", recentre_margin_m);
   requireSetting(window_m > 2.0 * recentre_margin_m + 2.0 * cell_m, "thermal.window_m",
                  "> 2·recentre_margin_m + 2·cell_m", window_m);
   requireSetting(window_m / cell_m <= kMaxWindowCells, "thermal.window_m", "<= 4096·cell_m", window_m);
-  requireChoice(face_conductivity, "thermal.face_conductivity", { "arithmetic", "harmonic" });
+  requireChoice(face_conductivity, "thermal.face_conductivity", {"arithmetic", "harmonic"});
   if (step_samples < 1 || step_samples > 1000000)
     failSetting("thermal.step_samples", "in [1, 1000000]", static_cast<double>(step_samples));
   requireSetting(active_threshold_k > 0.0 && active_threshold_k < meltRiseK(), "thermal.active_threshold_k",

@@ -13,8 +13,8 @@ namespace scanhead
 {
 namespace
 {
-constexpr double kFlushK = 1.0e-100;       // rises below this are set to 0 (no denormals far from the track)
-constexpr double kMaxSubsteps = 1.0e6;     // a longer laser-on segment in one sample is garbage
+constexpr double kFlushK = 1.0e-100;    // rises below this are set to 0 (no denormals far from the track)
+constexpr double kMaxSubsteps = 1.0e6;  // a longer laser-on segment in one sample is garbage
 
 const ThermalConfig& validated(const ThermalConfig& config)
 {
@@ -36,7 +36,8 @@ double arithmeticMean(double a, double b)
 // ---------------------------------------------------------------------------------------------
 // Construction, stream
 // ---------------------------------------------------------------------------------------------
-ThermalLayer::ThermalLayer(const ThermalConfig& config) : config_(validated(config))
+ThermalLayer::ThermalLayer(const ThermalConfig& config)
+  : config_(validated(config))
 {
   const double cell = config_.cell_m;
   const int n = static_cast<int>(std::ceil(config_.window_m / cell - 1e-9));
@@ -113,8 +114,8 @@ void ThermalLayer::process(const SpotChunk& chunk)
     if (s.power_w > 0.0 && !s.actual.allFinite())
     {
       std::ostringstream msg;
-      msg << "thermal: sample " << index << " has a non-finite spot position (" << s.actual.x() << ", "
-          << s.actual.y() << ") m while the laser is on (" << s.power_w << " W)";
+      msg << "thermal: sample " << index << " has a non-finite spot position (" << s.actual.x() << ", " << s.actual.y()
+          << ") m while the laser is on (" << s.power_w << " W)";
       throw NumericalError(msg.str());
     }
     period_s_ = chunk.period_s;
@@ -136,7 +137,7 @@ void ThermalLayer::process(const SpotChunk& chunk)
 
 void ThermalLayer::pushSample(const SpotSample& s, std::uint64_t index)
 {
-  pending_.push_back(Pending{ s, index });
+  pending_.push_back(Pending{s, index});
   const std::size_t n = config_.step_samples;
   if (pending_.size() == n + 1)
   {
@@ -206,8 +207,7 @@ void ThermalLayer::runStep(std::size_t count, const SpotSample* next)
       has_on_pos_ = false;
     }
   }
-  step.steady = all_on &&
-                static_cast<double>(step.first_index - burst_start_index_) * ts >= config_.settle_time_s;
+  step.steady = all_on && static_cast<double>(step.first_index - burst_start_index_) * ts >= config_.settle_time_s;
 
   // Window placement.
   if (step.laser_on)
@@ -255,8 +255,7 @@ void ThermalLayer::runStep(std::size_t count, const SpotSample* next)
   }
 
   // Active box: hot cells (grown last step) ∪ footprint, grown by the diffusion reach of one step.
-  const double a_max = std::max(lambda_s_, config_.conductivity_powder_w_m_k) /
-                       std::min(kappa_s_, kappa_p_);
+  const double a_max = std::max(lambda_s_, config_.conductivity_powder_w_m_k) / std::min(kappa_s_, kappa_p_);
   const int grow = 2 + static_cast<int>(std::ceil(3.0 * std::sqrt(a_max * dt) / cell));
   CellBox b = window_.box;
   if (!src_box.empty())
@@ -395,7 +394,7 @@ void ThermalLayer::depositPoint(double x, double y, double energy_j, CellBox& sr
       row[i] += gj * gx_[i - ilo];
   }
   if (src_box.empty())
-    src_box = CellBox{ i0, i1, j0, j1 };
+    src_box = CellBox{i0, i1, j0, j1};
   else
   {
     src_box.i0 = std::min(src_box.i0, i0);
@@ -465,7 +464,7 @@ void ThermalLayer::postStep(const LossHalfStep& loss, int& peak_i, int& peak_j)
     {
       if (!any)
       {
-        hot = CellBox{ row_first, row_last, j, j };
+        hot = CellBox{row_first, row_last, j, j};
         any = true;
       }
       hot.i0 = std::min(hot.i0, row_first);

@@ -157,9 +157,11 @@ inline void benchmarkContourError(std::ostream& out, std::size_t points)
   for (const SizeResult& r : results)
   {
     char head[160];
-    std::snprintf(head, sizeof head, "\n%zu points: fill %.1f Mpoints/s, index build %.1f Mpoints/s, path %.2f B/point, "
-                  "index %.2f B/point, %zu grids\n", r.points, r.fill_rate * 1e-6, r.build_rate * 1e-6,
-                  r.path_bytes_per_point, r.index_bytes_per_point, r.grids);
+    std::snprintf(head, sizeof head,
+                  "\n%zu points: fill %.1f Mpoints/s, index build %.1f Mpoints/s, path %.2f B/point, "
+                  "index %.2f B/point, %zu grids\n",
+                  r.points, r.fill_rate * 1e-6, r.build_rate * 1e-6, r.path_bytes_per_point, r.index_bytes_per_point,
+                  r.grids);
     out << head;
     char cols[160];
     std::snprintf(cols, sizeof cols, "  %-34s %12s %12s %12s\n", "query", "Mpoints/s", "worst", "best");
@@ -174,7 +176,8 @@ inline void benchmarkContourError(std::ostream& out, std::size_t points)
     row("(a) nearest path, (b) as bound", r.nearest_hinted);
     row("(b) same instant", r.same_instant);
     char tail[256];
-    std::snprintf(tail, sizeof tail, "  cost (a)/(b): %.1fx; %.1f segments tested per (a) query; (a) mean %.3f um, "
+    std::snprintf(tail, sizeof tail,
+                  "  cost (a)/(b): %.1fx; %.1f segments tested per (a) query; (a) mean %.3f um, "
                   "max %.3f um, under 10 um %.4f%s; (b) mean %.3f um, max %.3f um\n",
                   r.same_instant.mean() / r.nearest.mean(), r.segments_per_query, r.stats_nearest.mean() * 1e6,
                   r.stats_nearest.max() * 1e6, r.stats_nearest.shareUnder(10e-6),
@@ -183,9 +186,10 @@ inline void benchmarkContourError(std::ostream& out, std::size_t points)
     out << tail;
   }
   char scale[256];
-  std::snprintf(scale, sizeof scale, "scaling n/10 -> n: index build rate x%.2f, (a) query rate x%.2f, (b) x%.2f "
-                "(1.00: linear total time)\n", results[1].build_rate / results[0].build_rate,
-                results[1].nearest.mean() / results[0].nearest.mean(),
+  std::snprintf(scale, sizeof scale,
+                "scaling n/10 -> n: index build rate x%.2f, (a) query rate x%.2f, (b) x%.2f "
+                "(1.00: linear total time)\n",
+                results[1].build_rate / results[0].build_rate, results[1].nearest.mean() / results[0].nearest.mean(),
                 results[1].same_instant.mean() / results[0].same_instant.mean());
   out << scale;
 }

@@ -9,13 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "scanhead/chain/batch_chain.hpp"
-#include "scanhead/job/job_files.hpp"
-#include "scanhead/chain/config_io.hpp"
-#include "scanhead/optics/correction_table.hpp"
-#include "scanhead/job/formats/job_io.hpp"
 #include "benchmark_contour_error.hpp"
 #include "process_memory.hpp"
+#include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/job/job_files.hpp"
+#include "scanhead/optics/correction_table.hpp"
 #include "support/command_line.hpp"
 
 using namespace scanhead;
@@ -43,7 +43,8 @@ struct Stats
 };
 
 /// One run, timing each stage's calls separately; returns seconds per stage + setup + total.
-std::vector<double> timedRun(const ChainConfig& config, const OpticalModel& optics, const Job& job, std::uint64_t& samples)
+std::vector<double> timedRun(const ChainConfig& config, const OpticalModel& optics, const Job& job,
+                             std::uint64_t& samples)
 {
   const auto t_setup = Clock::now();
   // The stages as the batch chain and the nodes drive them (chain_stages.hpp).
@@ -119,15 +120,15 @@ void benchmarkNcOptions(const std::string& config_path, const std::vector<std::s
     std::vector<std::string> settings;
   };
   const std::vector<Option> options = {
-    { "default (fixed FIRs, Newton IGT)", {} },
-    { "igt table bilinear 65x65", { "nc.igt.mode=table" } },
-    { "igt table bicubic 65x65", { "nc.igt.mode=table", "nc.igt.table_interpolation=bicubic" } },
-    { "adaptive filters", { "nc.filter_mode=adaptive" } },
-    { "delays (mark/jump/polygon)", { "nc.mark_delay_s=100e-6", "nc.jump_delay_s=300e-6", "nc.polygon_delay_s=50e-6" } },
-    { "skywriting", { "nc.skywriting.enabled=true" } },
-    { "power ~ speed", { "nc.power_mode=speed" } },
-    { "quantisation 16 bit", { "nc.quantisation_bits=16" } },
-    { "debug signals", { "nc.debug=true" } },
+      {"default (fixed FIRs, Newton IGT)", {}},
+      {"igt table bilinear 65x65", {"nc.igt.mode=table"}},
+      {"igt table bicubic 65x65", {"nc.igt.mode=table", "nc.igt.table_interpolation=bicubic"}},
+      {"adaptive filters", {"nc.filter_mode=adaptive"}},
+      {"delays (mark/jump/polygon)", {"nc.mark_delay_s=100e-6", "nc.jump_delay_s=300e-6", "nc.polygon_delay_s=50e-6"}},
+      {"skywriting", {"nc.skywriting.enabled=true"}},
+      {"power ~ speed", {"nc.power_mode=speed"}},
+      {"quantisation 16 bit", {"nc.quantisation_bits=16"}},
+      {"debug signals", {"nc.debug=true"}},
   };
   std::printf("\nNC alone on %s, %d runs each\n%-36s %12s %12s %10s\n", spec.c_str(), repeat, "option", "samples",
               "Msamples/s", "vs default");
@@ -213,8 +214,8 @@ void benchmarkOpticalModels(const ChainConfig& config, const OpticalModel& optic
       s += table.joints(x, TableInterpolation::Bicubic).x();
     return s;
   });
-  std::printf("\noptical models (machine: optics.defects = %s), %zu points over the field, %d runs\n", config.optics.defects.c_str(),
-              spots.size(), repeat);
+  std::printf("\noptical models (machine: optics.defects = %s), %zu points over the field, %d runs\n",
+              config.optics.defects.c_str(), spots.size(), repeat);
   std::printf("%-44s %10.2f M spots/s\n", "direct model (ray trace)", direct * 1e-6);
   std::printf("%-44s %10.2f M spots/s\n", "inverse, Newton (warm-started along a raster)", newton * 1e-6);
   std::printf("%-44s %10.2f M spots/s\n", "inverse, table 65x65 bilinear", bilinear * 1e-6);
@@ -244,7 +245,9 @@ int main(int argc, char** argv)
     app.add_option("--job", jobs, "a job spec, as scanhead_run --job (repeatable; default: corner and hatch)")
         ->type_name("SPEC")
         ->allow_extra_args(false);
-    app.add_option("--repeat", repeat, "runs per job (default 20)")->type_name("N")->transform(check::integerAtLeast(1));
+    app.add_option("--repeat", repeat, "runs per job (default 20)")
+        ->type_name("N")
+        ->transform(check::integerAtLeast(1));
     config_arguments.addTo(app, "nc.fir_t1_s=300e-6");
     app.add_flag("--chain-only", chain_only,
                  "the jobs' chain figures only (e.g. --job squares:recipe=1 --repeat 1 --chain-only)");

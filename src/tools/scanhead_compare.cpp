@@ -5,9 +5,9 @@
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/text_file.hpp"
+#include "scanhead/metrics/run_comparison.hpp"
 #include "support/command_line.hpp"
 #include "support/python_plots.hpp"
-#include "scanhead/metrics/run_comparison.hpp"
 
 namespace
 {
@@ -24,17 +24,19 @@ int main(int argc, char** argv)
   try
   {
     std::string run_a, run_b, names, out;
-    CLI::App app("Two runs side by side (THESIS Table 3.1), as a table, YAML, Markdown and a plot.", "scanhead_compare");
+    CLI::App app("Two runs side by side (THESIS Table 3.1), as a table, YAML, Markdown and a plot.",
+                 "scanhead_compare");
     configureApp(app);
     app.add_option("RUN_A", run_a, "results folder of scanhead_run / the virtual machine (or its metrics.yaml)")
         ->required();
     app.add_option("RUN_B", run_b, "the second run, likewise")->required();
     app.add_option("--names", names, "labels of the two runs (default: their job names)")->type_name("A,B");
-    app.add_option("--out", out, "write comparison.yaml, comparison.md and comparison.png (scripts/plot_comparison.py) there")
+    app.add_option("--out", out,
+                   "write comparison.yaml, comparison.md and comparison.png (scripts/plot_comparison.py) there")
         ->type_name("DIR");
     if (!parseCommandLine(app, argc, argv))
       return 0;
-    const std::vector<std::string> runs{ run_a, run_b };
+    const std::vector<std::string> runs{run_a, run_b};
     RunComparison comparison = compareMetricsFiles(metricsPath(runs[0]), metricsPath(runs[1]));
     if (!names.empty())
     {
@@ -50,8 +52,9 @@ int main(int argc, char** argv)
       std::filesystem::create_directories(out);
       writeTextFile(std::filesystem::path(out) / "comparison.yaml", comparisonYaml(comparison));
       writeTextFile(std::filesystem::path(out) / "comparison.md", comparisonMarkdown(comparison));
-      runPythonScript("scripts/plot_comparison.py", { metricsPath(runs[0]), metricsPath(runs[1]), comparison.name_a,
-                                                      comparison.name_b, (std::filesystem::path(out) / "comparison.png").string() });
+      runPythonScript("scripts/plot_comparison.py",
+                      {metricsPath(runs[0]), metricsPath(runs[1]), comparison.name_a, comparison.name_b,
+                       (std::filesystem::path(out) / "comparison.png").string()});
       std::cout << "written to " << out << "/\n";
     }
     return 0;

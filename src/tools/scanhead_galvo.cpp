@@ -31,12 +31,16 @@ bool parse(int argc, char** argv, Arguments& a)
   CLI::App app("The galvo servo's own tools: loop analysis, identification, KM0 protocol.", "scanhead_galvo");
   scanhead::configureApp(app);
   std::string axis;
-  app.add_option("--axis", axis, "the galvo axis")->type_name("x|y")->required()->transform(scanhead::check::oneOf({ "x", "y" }));
+  app.add_option("--axis", axis, "the galvo axis")
+      ->type_name("x|y")
+      ->required()
+      ->transform(scanhead::check::oneOf({"x", "y"}));
   a.config.addTo(app, "servo.y.plant.coulomb_torque_nm=6e-5");
   app.add_subcommand("loops", "crossovers, phase margins and closed-loop bandwidth of the axis's cascade (YAML)");
-  CLI::App* identify = app.add_subcommand(
-      "identify", "PRBS identification of the simulated galvo: true vs identified R, L, Kc, B, Jeq (YAML);\n"
-                  "with --out DIR also bode.csv and Bode plots");
+  CLI::App* identify =
+      app.add_subcommand("identify",
+                         "PRBS identification of the simulated galvo: true vs identified R, L, Kc, B, Jeq (YAML);\n"
+                         "with --out DIR also bode.csv and Bode plots");
   identify->add_option("--out", a.out, "folder for bode.csv and the Bode plots")->type_name("DIR");
   CLI::App* km0 = app.add_subcommand("km0", "the KM0 maintenance protocol (steps, large steps, ramps) with verdicts");
   km0->add_option("--out", a.out, "folder for km0_report.yaml, CSV and plots")->type_name("DIR")->required();

@@ -8,16 +8,16 @@
 #include <vector>
 
 #include "scanhead/chain/batch_chain.hpp"
-#include "scanhead/common/text_file.hpp"
-#include "scanhead/job/generators/builtin_jobs.hpp"
-#include "scanhead/job/formats/cli_format.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/common/errors.hpp"
-#include "scanhead/job/job_files.hpp"
+#include "scanhead/common/text_file.hpp"
+#include "scanhead/job/formats/cli_format.hpp"
 #include "scanhead/job/formats/job_io.hpp"
-#include "scanhead/report/job_picture.hpp"
-#include "scanhead/job/job_stats.hpp"
 #include "scanhead/job/formats/segment_path.hpp"
+#include "scanhead/job/generators/builtin_jobs.hpp"
+#include "scanhead/job/job_files.hpp"
+#include "scanhead/job/job_stats.hpp"
+#include "scanhead/report/job_picture.hpp"
 #include "support/command_line.hpp"
 
 namespace
@@ -37,15 +37,15 @@ bool parse(int argc, char** argv, Arguments& a)
 {
   CLI::App app("Scan jobs on their own: statistics, picture, conversion, reader speed.", "scanhead_job");
   scanhead::configureApp(app);
-  app.footer("JOB: a .yaml job, a .cli file (ASCII or binary), a segment scan-path file, or a built-in job\n"
-             "(corner, hatch, squares; see scanhead_run --help). --set cam.layer=N and cam.units=mm|m apply.");
+  app.footer(
+      "JOB: a .yaml job, a .cli file (ASCII or binary), a segment scan-path file, or a built-in job\n"
+      "(corner, hatch, squares; see scanhead_run --help). --set cam.layer=N and cam.units=mm|m apply.");
   a.config.addTo(app, "cam.layer=2");
-  const auto job = [&](CLI::App* command) {
-    command->add_option("JOB", a.job, "the job (see below)")->required();
-  };
+  const auto job = [&](CLI::App* command) { command->add_option("JOB", a.job, "the job (see below)")->required(); };
   double size = a.size, lines = static_cast<double>(a.lines);
-  job(app.add_subcommand("stats", "statistics on the ideal timeline (YAML): lengths, counts, times, energy;\n"
-                                  "for the built-in squares job also the time of each square"));
+  job(app.add_subcommand("stats",
+                         "statistics on the ideal timeline (YAML): lengths, counts, times, energy;\n"
+                         "for the built-in squares job also the time of each square"));
   CLI::App* picture = app.add_subcommand("picture", "the job drawn: marks dark blue, jumps grey dashed");
   job(picture);
   picture->add_option("--out", a.out, "the picture to write")->type_name("F.png")->required();
@@ -123,8 +123,10 @@ void bench(long lines)
   timeReader("YAML job", scanJobToYaml(job), [](const std::string& b) { return parseScanJobYaml(b, "bench.yaml"); });
   CliReadOptions cli;
   cli.layer = 0;
-  timeReader("CLI ASCII", writeCliAscii(job, 1e-3), [&](const std::string& b) { return parseCli(b, "bench.cli", cli); });
-  timeReader("CLI binary", writeCliBinary(job, 1e-3), [&](const std::string& b) { return parseCli(b, "bench.cli", cli); });
+  timeReader("CLI ASCII", writeCliAscii(job, 1e-3),
+             [&](const std::string& b) { return parseCli(b, "bench.cli", cli); });
+  timeReader("CLI binary", writeCliBinary(job, 1e-3),
+             [&](const std::string& b) { return parseCli(b, "bench.cli", cli); });
   SegmentReadOptions seg;
   timeReader("segment path", segmentText(job),
              [&](const std::string& b) { return parseSegmentPath(b, "bench.txt", seg); });
@@ -150,7 +152,8 @@ int main(int argc, char** argv)
       if (args.job.substr(0, args.job.find(':')) == "squares")
       {
         const SquareJob squares = builtinSquareJob(args.job);
-        std::cout << jobStatsYaml(computeJobStats(squares.job, config.nc.implicit_jump_speed_mps, squares.square_of_polyline));
+        std::cout << jobStatsYaml(
+            computeJobStats(squares.job, config.nc.implicit_jump_speed_mps, squares.square_of_polyline));
       }
       else
         std::cout << jobStatsYaml(computeJobStats(loadJob(args.job, config.cam), config.nc.implicit_jump_speed_mps));

@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "scanhead/chain/batch_chain.hpp"
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
 #include "scanhead/common/text_file.hpp"
 #include "scanhead/optics/calibration.hpp"
-#include "scanhead/chain/config_io.hpp"
 #include "scanhead/optics/correction_table.hpp"
-#include "scanhead/common/errors.hpp"
 #include "scanhead/optics/influence_map.hpp"
-#include "scanhead/common/number_text.hpp"
 #include "scanhead/optics/optical_defects.hpp"
 #include "support/command_line.hpp"
 #include "support/python_plots.hpp"
@@ -25,15 +25,15 @@ namespace
 struct Arguments
 {
   std::string command;
-  std::vector<double> point = { 0.0, 0.0 };  ///< trace: THETA_X THETA_Y [rad]; inverse: X Y [m]
-  std::string defects;                  ///< empty: the config's optics.defects
-  int nodes = 0;                        ///< 0: nc.igt.table_nodes
+  std::vector<double> point = {0.0, 0.0};  ///< trace: THETA_X THETA_Y [rad]; inverse: X Y [m]
+  std::string defects;                     ///< empty: the config's optics.defects
+  int nodes = 0;                           ///< 0: nc.igt.table_nodes
   int probes = 129;
-  std::string interpolation;            ///< empty: nc.igt.table_interpolation
-  std::string out;                      ///< influence, field: output folder
-  int grid = 0;                         ///< influence, field, calibrate: 0 = the command's default
-  double noise_m = 1e-6;                ///< calibrate
-  std::uint64_t seed = 1;               ///< calibrate: noise seed
+  std::string interpolation;  ///< empty: nc.igt.table_interpolation
+  std::string out;            ///< influence, field: output folder
+  int grid = 0;               ///< influence, field, calibrate: 0 = the command's default
+  double noise_m = 1e-6;      ///< calibrate
+  std::uint64_t seed = 1;     ///< calibrate: noise seed
   scanhead::ConfigArguments config;
 };
 
@@ -41,10 +41,11 @@ struct Arguments
 bool parse(int argc, char** argv, Arguments& a)
 {
   using namespace scanhead;
-  CLI::App app("The optical chain of a machine with its assembly defects (SPEC §4, OPT): direct and inverse\n"
-               "models, the machine's URDF, the correction-table residual, the defects' influence maps,\n"
-               "and the calibration of a machine from measured spots.",
-               "scanhead_optics");
+  CLI::App app(
+      "The optical chain of a machine with its assembly defects (SPEC §4, OPT): direct and inverse\n"
+      "models, the machine's URDF, the correction-table residual, the defects' influence maps,\n"
+      "and the calibration of a machine from measured spots.",
+      "scanhead_optics");
   configureApp(app);
   CLI::Option* defects = app.add_option("--defects", a.defects,
                                         "the machine (docs/defects.md): nominal | opt_table2 (OPT table 2) |\n"
@@ -60,17 +61,21 @@ bool parse(int argc, char** argv, Arguments& a)
   const auto grid = [&](CLI::App* command, const char* help) {
     command->add_option("--grid", a.grid, help)->type_name("N")->transform(check::integerAtLeast(2));
   };
-  point(app.add_subcommand("trace", "the spot 'x y z' [m] of the machine at mechanical angles [rad], in its\n"
-                                    "work-plane frame (the bed's own coordinates; z = 0 on the plane)"),
+  point(app.add_subcommand("trace",
+                           "the spot 'x y z' [m] of the machine at mechanical angles [rad], in its\n"
+                           "work-plane frame (the bed's own coordinates; z = 0 on the plane)"),
         "THETA_X", "THETA_Y", "mechanical angle [rad]");
-  point(app.add_subcommand("inverse", "the angles 'theta_x theta_y' [rad] that put the spot at (X, Y) [m]\n"
-                                      "(Newton inverse of that machine)"),
+  point(app.add_subcommand("inverse",
+                           "the angles 'theta_x theta_y' [rad] that put the spot at (X, Y) [m]\n"
+                           "(Newton inverse of that machine)"),
         "X", "Y", "spot coordinate in the work-plane frame [m]");
-  app.add_subcommand("urdf", "the machine's URDF: the package URDF (optics.urdf_path) with the\n"
-                             "defect set written into its defect joints");
-  CLI::App* residual = app.add_subcommand(
-      "residual", "spot error over the field (YAML) of the correction table built from the nominal model\n"
-                  "and of the one built from the machine's own model, both run on the machine");
+  app.add_subcommand("urdf",
+                     "the machine's URDF: the package URDF (optics.urdf_path) with the\n"
+                     "defect set written into its defect joints");
+  CLI::App* residual =
+      app.add_subcommand("residual",
+                         "spot error over the field (YAML) of the correction table built from the nominal model\n"
+                         "and of the one built from the machine's own model, both run on the machine");
   residual->add_option("--nodes", a.nodes, "table nodes per axis (default: nc.igt.table_nodes)")
       ->type_name("N")
       ->transform(check::integerAtLeast(2));
@@ -79,21 +84,23 @@ bool parse(int argc, char** argv, Arguments& a)
       ->transform(check::integerAtLeast(2));
   residual->add_option("--interpolation", a.interpolation, "default: nc.igt.table_interpolation")
       ->type_name("bilinear|bicubic");
-  CLI::App* influence = app.add_subcommand(
-      "influence", "each of the 30 defects alone at 1 mm or 1 mrad: global shift at O_p and non-linear part\n"
-                   "over the field (DIR/influence.yaml, DIR/influence_chart.png)");
+  CLI::App* influence =
+      app.add_subcommand("influence",
+                         "each of the 30 defects alone at 1 mm or 1 mrad: global shift at O_p and non-linear part\n"
+                         "over the field (DIR/influence.yaml, DIR/influence_chart.png)");
   influence->add_option("--out", a.out, "output folder")->type_name("DIR")->required();
   grid(influence, "field grid per axis (default 21)");
-  CLI::App* field = app.add_subcommand(
-      "field", "the spot displacement the machine's defect set causes over the field\n"
-               "(DIR/defect_field.csv, DIR/defect_field.png)");
+  CLI::App* field = app.add_subcommand("field",
+                                       "the spot displacement the machine's defect set causes over the field\n"
+                                       "(DIR/defect_field.csv, DIR/defect_field.png)");
   field->add_option("--out", a.out, "output folder")->type_name("DIR")->required();
   grid(field, "field grid per axis (default 21)");
-  CLI::App* calibrate = app.add_subcommand(
-      "calibrate", "measure the machine's spots on an N x N grid of angles, estimate its defects from the\n"
-                   "nominal model, and report (YAML) the estimate, the identifiable combinations and the\n"
-                   "spot error over the field of the correction table before (nominal model) and after\n"
-                   "(identified model); the machine is --defects, e.g. random:seed=7");
+  CLI::App* calibrate =
+      app.add_subcommand("calibrate",
+                         "measure the machine's spots on an N x N grid of angles, estimate its defects from the\n"
+                         "nominal model, and report (YAML) the estimate, the identifiable combinations and the\n"
+                         "spot error over the field of the correction table before (nominal model) and after\n"
+                         "(identified model); the machine is --defects, e.g. random:seed=7");
   grid(calibrate, "angle grid per axis (default 15)");
   calibrate->add_option("--noise", a.noise_m, "measurement noise [m] (default 1e-6)")
       ->type_name("M")
@@ -127,7 +134,7 @@ Machine loadMachine(const Arguments& a)
   const DefectSet defects = loadDefects(config.optics);  // the forms of defectSetByName, files resolved
   const std::string urdf_path = resolvePackagePath(config.optics.urdf_path);
   const OpticalGeometry nominal = geometryFromUrdfFile(urdf_path);
-  return Machine{ config, urdf_path, nominal, defects, loadOpticalModel(config.optics) };  // as the batch runner
+  return Machine{config, urdf_path, nominal, defects, loadOpticalModel(config.optics)};  // as the batch runner
 }
 
 void printReport(const char* key, const scanhead::TableErrorReport& r)
@@ -167,7 +174,7 @@ int influence(const Arguments& a, const Machine& m)
   const std::vector<InfluenceRow> rows = influenceTable(m.nominal, m.config.optics, a.grid != 0 ? a.grid : 21);
   const std::string yaml = a.out + "/influence.yaml";
   writeTextFile(yaml, influenceYaml(rows));
-  runPythonScript("scripts/plot_optics.py", { "influence", yaml, a.out + "/influence_chart.png" });
+  runPythonScript("scripts/plot_optics.py", {"influence", yaml, a.out + "/influence_chart.png"});
   std::cout << "influence of the 30 defects written to " << yaml << " and " << a.out << "/influence_chart.png\n";
   return 0;
 }
@@ -183,7 +190,7 @@ int field(const Arguments& a, const Machine& m)
   for (const Eigen::Vector2d& d : f.displacement_m)
     worst = std::max(worst, d.norm());
   runPythonScript("scripts/plot_optics.py",
-                  { "field", csv, a.out + "/defect_field.png", "--title", "defect set " + m.defects.name });
+                  {"field", csv, a.out + "/defect_field.png", "--title", "defect set " + m.defects.name});
   std::cout << "defects " << m.defects.name << ": spot displacement up to " << worst * 1e6 << " um over the field; "
             << csv << ", " << a.out << "/defect_field.png\n";
   return 0;
@@ -208,8 +215,8 @@ int calibrate(const Arguments& a, const Machine& m)
             << "table: {nodes: " << nodes << ", interpolation: bicubic, probes_per_axis: 129}\n";
   printReport("before_nominal_table",
               measureTableError(CorrectionTable::build(nominal, nodes, h), TableInterpolation::Bicubic, m.optics, 129));
-  printReport("after_identified_table",
-              measureTableError(CorrectionTable::build(identified, nodes, h), TableInterpolation::Bicubic, m.optics, 129));
+  printReport("after_identified_table", measureTableError(CorrectionTable::build(identified, nodes, h),
+                                                          TableInterpolation::Bicubic, m.optics, 129));
   std::cout << calibrationYaml(result);
   return 0;
 }

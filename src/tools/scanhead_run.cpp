@@ -5,15 +5,15 @@
 #include <string>
 #include <vector>
 
+#include "process_memory.hpp"
 #include "scanhead/chain/batch_chain.hpp"
-#include "scanhead/job/job_files.hpp"
 #include "scanhead/chain/config_io.hpp"
+#include "scanhead/chain/results_writer.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/job/job_files.hpp"
 #include "scanhead/job/job_stats.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
-#include "scanhead/chain/results_writer.hpp"
-#include "process_memory.hpp"
 #include "support/command_line.hpp"
 #include "support/python_plots.hpp"
 
@@ -94,9 +94,10 @@ int main(int argc, char** argv)
     {
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::cout << metricsTable(metrics) << ncLimitsLine(chain.nc().stats(), config.nc);
-      std::printf("run: %.2f s wall for %.4g s of machine time (%.3gx real time, results and plots included), "
-                  "process peak memory %.0f MiB\n",
-                  wall, metrics.duration_s, metrics.duration_s / wall, processPeakResidentBytes() / 1048576.0);
+      std::printf(
+          "run: %.2f s wall for %.4g s of machine time (%.3gx real time, results and plots included), "
+          "process peak memory %.0f MiB\n",
+          wall, metrics.duration_s, metrics.duration_s / wall, processPeakResidentBytes() / 1048576.0);
       std::cout << "results written to " << out << "/\n";
     }
     return 0;

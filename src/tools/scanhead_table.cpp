@@ -6,9 +6,9 @@
 
 #include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/chain/config_io.hpp"
-#include "scanhead/optics/correction_table.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/optics/correction_table.hpp"
 #include "scanhead/optics/optical_defects.hpp"
 #include "support/command_line.hpp"
 
@@ -28,14 +28,16 @@ struct Arguments
 /// \brief The options into \p a. \return false after --help
 bool parse(int argc, char** argv, Arguments& a)
 {
-  CLI::App app("Builds the correction table from the optics (Newton inverse at N x N nodes over the field\n"
-               "[-h, h]^2, h = optics.field_half_width_m), or loads it, and prints its error |h(q_table(x)) - x|\n"
-               "over P x P probes as YAML.",
-               "scanhead_table");
+  CLI::App app(
+      "Builds the correction table from the optics (Newton inverse at N x N nodes over the field\n"
+      "[-h, h]^2, h = optics.field_half_width_m), or loads it, and prints its error |h(q_table(x)) - x|\n"
+      "over P x P probes as YAML.",
+      "scanhead_table");
   scanhead::configureApp(app);
-  CLI::Option* nodes = app.add_option("--nodes", a.nodes, "nodes per axis (default: nc.igt.table_nodes, 65); not with --load")
-                           ->type_name("N")
-                           ->transform(scanhead::check::integerAtLeast(2));
+  CLI::Option* nodes =
+      app.add_option("--nodes", a.nodes, "nodes per axis (default: nc.igt.table_nodes, 65); not with --load")
+          ->type_name("N")
+          ->transform(scanhead::check::integerAtLeast(2));
   app.add_option("--interpolation", a.interpolation,
                  "bilinear (THESIS) or bicubic (default: nc.igt.table_interpolation)")
       ->type_name("bilinear|bicubic");
@@ -47,8 +49,10 @@ bool parse(int argc, char** argv, Arguments& a)
   app.add_option("--probes", a.probes, "probes per axis (default 257)")
       ->type_name("P")
       ->transform(scanhead::check::integerAtLeast(2));
-  CLI::Option* save = app.add_option("--save", a.save, "write the built table (docs/correction_table.md)")->type_name("FILE");
-  CLI::Option* load = app.add_option("--load", a.load, "check a saved table instead of building one")->type_name("FILE");
+  CLI::Option* save =
+      app.add_option("--save", a.save, "write the built table (docs/correction_table.md)")->type_name("FILE");
+  CLI::Option* load =
+      app.add_option("--load", a.load, "check a saved table instead of building one")->type_name("FILE");
   load->excludes(nodes)->excludes(save);
   a.config.addTo(app, "optics.field_half_width_m=0.15");
   return scanhead::parseCommandLine(app, argc, argv);
@@ -65,21 +69,20 @@ int main(int argc, char** argv)
       return 0;
     const ChainConfig config = args.config.load();
     const TableInterpolation interpolation =
-        args.interpolation.empty() ? parseTableInterpolation(config.nc.igt.table_interpolation,
-                                                             "nc.igt.table_interpolation")
-                                   : parseTableInterpolation(args.interpolation, "--interpolation");
+        args.interpolation.empty()
+            ? parseTableInterpolation(config.nc.igt.table_interpolation, "nc.igt.table_interpolation")
+            : parseTableInterpolation(args.interpolation, "--interpolation");
 
     OpticsConfig machine = config.optics;
     if (!args.defects.empty())
       machine.defects = args.defects;
-    const DefectSet defects = loadDefects(machine);  // the forms of defectSetByName, files resolved
+    const DefectSet defects = loadDefects(machine);         // the forms of defectSetByName, files resolved
     const OpticalModel optics = loadOpticalModel(machine);  // the machine as the batch runner builds it
 
     const CorrectionTable table =
-        args.load.empty()
-            ? CorrectionTable::build(optics, args.nodes != 0 ? args.nodes : config.nc.igt.table_nodes,
-                                     config.optics.field_half_width_m)
-            : CorrectionTable::load(args.load);
+        args.load.empty() ? CorrectionTable::build(optics, args.nodes != 0 ? args.nodes : config.nc.igt.table_nodes,
+                                                   config.optics.field_half_width_m)
+                          : CorrectionTable::load(args.load);
     if (!args.save.empty())
       table.save(args.save);
     const TableErrorReport report = measureTableError(table, interpolation, optics, args.probes);

@@ -5,9 +5,9 @@
 
 #include "fixtures/chain_fixture.hpp"
 #include "scanhead/chain/batch_chain.hpp"
-#include "scanhead/job/job_files.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/job/job_files.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
 
 using namespace scanhead;
@@ -34,7 +34,8 @@ TEST(BatchChain, CornerMatchesClosedForms)
   {
     char spec[128];
     std::snprintf(spec, sizeof spec, "corner:speed=%g,angle=%g,leg=0.004", c.speed_mps, c.angle_deg);
-    const ChainRun run = runJob(spec, {"nc.fir_t1_s=" + std::to_string(c.t1_s), "nc.fir_t2_s=" + std::to_string(c.t2_s)});
+    const ChainRun run =
+        runJob(spec, {"nc.fir_t1_s=" + std::to_string(c.t1_s), "nc.fir_t2_s=" + std::to_string(c.t2_s)});
     ASSERT_EQ(run.metrics.corners.size(), 1u) << spec;
     const CornerReport& r = run.metrics.corners[0];
     const double gamma = c.angle_deg * M_PI / 180.0;
@@ -53,16 +54,17 @@ TEST(BatchChain, CornerMatchesClosedForms)
     EXPECT_LT(r.actual.min_speed_mps, r.setpoint.min_speed_mps) << spec;
     if (c.speed_mps == 2.0)
     {
-      EXPECT_NEAR(r.actual.max_contour_error_m, r.setpoint.max_contour_error_m,
-                  0.10 * r.setpoint.max_contour_error_m)
+      EXPECT_NEAR(r.actual.max_contour_error_m, r.setpoint.max_contour_error_m, 0.10 * r.setpoint.max_contour_error_m)
           << spec;
     }
     EXPECT_GT(r.actual.max_contour_error_m, 0.5 * r.setpoint.max_contour_error_m) << spec;
     EXPECT_LT(r.actual.max_contour_error_m, 3.0 * r.setpoint.max_contour_error_m) << spec;
-    std::printf("%-36s setpoint %.1f mm/s (theory %.1f, %+.3f %%), e_c %.2f um (theory %.2f, %+.3f %%); actual %.1f mm/s, %.2f um\n",
-                spec, r.setpoint.min_speed_mps * 1e3, v_min * 1e3, 100 * (r.setpoint.min_speed_mps / v_min - 1),
-                r.setpoint.max_contour_error_m * 1e6, e_c * 1e6, 100 * (r.setpoint.max_contour_error_m / e_c - 1),
-                r.actual.min_speed_mps * 1e3, r.actual.max_contour_error_m * 1e6);
+    std::printf(
+        "%-36s setpoint %.1f mm/s (theory %.1f, %+.3f %%), e_c %.2f um (theory %.2f, %+.3f %%); actual %.1f mm/s, %.2f "
+        "um\n",
+        spec, r.setpoint.min_speed_mps * 1e3, v_min * 1e3, 100 * (r.setpoint.min_speed_mps / v_min - 1),
+        r.setpoint.max_contour_error_m * 1e6, e_c * 1e6, 100 * (r.setpoint.max_contour_error_m / e_c - 1),
+        r.actual.min_speed_mps * 1e3, r.actual.max_contour_error_m * 1e6);
   }
 }
 
@@ -101,8 +103,8 @@ TEST(BatchChain, ChunkingDoesNotChangeResults)
 // contour error switched off by its cap; and thinning keeps the straight-track level within 2 %.
 TEST(BatchChain, BoundedMemoryPathsAreChunkInvariant)
 {
-  const std::vector<std::string> bounded = { "energy.track_max_samples=100", "energy.tile_cache_bytes=1048576",
-                                             "energy.contour_max_samples=100", "energy.pixel_m=2e-6" };
+  const std::vector<std::string> bounded = {"energy.track_max_samples=100", "energy.tile_cache_bytes=1048576",
+                                            "energy.contour_max_samples=100", "energy.pixel_m=2e-6"};
   auto with = [&](const char* chunk) {
     std::vector<std::string> o = bounded;
     o.push_back(std::string("stream.chunk_samples=") + chunk);
@@ -112,13 +114,13 @@ TEST(BatchChain, BoundedMemoryPathsAreChunkInvariant)
   EXPECT_GT(ref.metrics.track_stride, 1u);
   EXPECT_GT(ref.metrics.map_tiles_spilled, 0u);
   EXPECT_FALSE(ref.metrics.quality.nearest_measured);
-  for (const char* chunk : { "1", "7" })
+  for (const char* chunk : {"1", "7"})
   {
     const ChainRun other = with(chunk);
     EXPECT_EQ(metricsToYaml(other.metrics), metricsToYaml(ref.metrics)) << chunk;
     EXPECT_TRUE(other.map == ref.map) << "energy map differs with chunks of " << chunk;
   }
-  const ChainRun full = runJob("corner", { "energy.pixel_m=2e-6" });
+  const ChainRun full = runJob("corner", {"energy.pixel_m=2e-6"});
   EXPECT_EQ(full.metrics.track_stride, 1u);
   EXPECT_NEAR(ref.metrics.track_median_jpm2, full.metrics.track_median_jpm2, 0.02 * full.metrics.track_median_jpm2);
   EXPECT_TRUE(full.map == ref.map) << "spilling changed the map";

@@ -34,8 +34,8 @@ TEST(ConfigIo, DefaultsFileEqualsStructDefaults)
 
 TEST(ConfigIo, OverridesApply)
 {
-  const ChainConfig c = loadChainConfig(kConfig, {"nc.fir_t1_s=300e-6", "energy.pixel_m=2.5e-6", "stream.chunk_samples=7",
-                                                  "servo.y.bandwidth_hz=900"});
+  const ChainConfig c = loadChainConfig(
+      kConfig, {"nc.fir_t1_s=300e-6", "energy.pixel_m=2.5e-6", "stream.chunk_samples=7", "servo.y.bandwidth_hz=900"});
   EXPECT_EQ(c.nc.fir_t1_s, 300e-6);
   EXPECT_EQ(c.energy.pixel_m, 2.5e-6);
   EXPECT_EQ(c.stream.chunk_samples, 7u);
@@ -54,14 +54,18 @@ TEST(ConfigIo, ErrorsNameTheKeyAndOrigin)
 {
   EXPECT_NE(errorOf([] { loadChainConfig(kConfig, {"nc.fir_t9_s=1"}); }).find("unknown key 'nc.fir_t9_s'"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { loadChainConfig(kConfig, {"nc.period_s=abc"}); }).find("nc.period_s (--set): 'abc' is not a number"),
+  EXPECT_NE(
+      errorOf([] { loadChainConfig(kConfig, {"nc.period_s=abc"}); }).find("nc.period_s (--set): 'abc' is not a number"),
+      std::string::npos);
+  EXPECT_NE(errorOf([] { loadChainConfig(kConfig, {"nc.period_s=nan"}); }).find("not a finite number"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { loadChainConfig(kConfig, {"nc.period_s=nan"}); }).find("not a finite number"), std::string::npos);
   EXPECT_NE(errorOf([] { loadChainConfig(kConfig, {"stream.chunk_samples=2.5"}); }).find("not a non-negative integer"),
             std::string::npos);
   EXPECT_NE(errorOf([] { loadChainConfig(kConfig, {"nc.fir_t1_s=-1e-5"}); }).find("nc.fir_t1_s"), std::string::npos);
-  EXPECT_NE(errorOf([] { loadChainConfig(kConfig, {"noequals"}); }).find("expected section.key=value"), std::string::npos);
-  const std::string unknown = errorOf([] { chainConfigFromFlat(flattenYaml("nc:\n  period_s: 1e-5\n  bogus: 3\n", "c.yaml")); });
+  EXPECT_NE(errorOf([] { loadChainConfig(kConfig, {"noequals"}); }).find("expected section.key=value"),
+            std::string::npos);
+  const std::string unknown =
+      errorOf([] { chainConfigFromFlat(flattenYaml("nc:\n  period_s: 1e-5\n  bogus: 3\n", "c.yaml")); });
   EXPECT_NE(unknown.find("nc.bogus (c.yaml:3): unknown setting"), std::string::npos) << unknown;
   EXPECT_NE(errorOf([] { flattenYaml("nc: [1, 2\n", "m.yaml"); }).find("m.yaml"), std::string::npos);
   EXPECT_NE(errorOf([] { loadChainConfig("/nonexistent.yaml", {}); }).find("cannot open"), std::string::npos);
@@ -71,8 +75,8 @@ TEST(ConfigIo, DifferingSettingsNamesEachKeyInTheGivenSections)
 {
   // What the energy node says when it is configured differently from the NC node.
   const std::string a = chainConfigToYaml(loadChainConfig(kConfig, {}));
-  const std::string b = chainConfigToYaml(loadChainConfig(kConfig, {"nc.fir_t1_s=300e-6", "servo.y.bandwidth_hz=900",
-                                                                    "energy.pixel_m=2.5e-6"}));
+  const std::string b = chainConfigToYaml(
+      loadChainConfig(kConfig, {"nc.fir_t1_s=300e-6", "servo.y.bandwidth_hz=900", "energy.pixel_m=2.5e-6"}));
   EXPECT_TRUE(differingSettings(a, a, {"nc", "servo", "energy"}).empty());
   const std::vector<std::string> differ = differingSettings(a, b, {"nc", "servo"});
   ASSERT_EQ(differ.size(), 2u);

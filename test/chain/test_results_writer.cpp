@@ -7,10 +7,10 @@
 #include <unistd.h>
 
 #include "scanhead/chain/batch_chain.hpp"
-#include "scanhead/job/generators/builtin_jobs.hpp"
 #include "scanhead/chain/config_io.hpp"
-#include "scanhead/common/errors.hpp"
 #include "scanhead/chain/results_writer.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/job/generators/builtin_jobs.hpp"
 
 using namespace scanhead;
 namespace fs = std::filesystem;
@@ -39,8 +39,8 @@ TEST(ResultsWriter, WritesEveryFileAndReplacesItsOwnFolder)
   Fixture f;
   const fs::path dir = freshDir("ok");
   writeResultsFolder(dir.string(), f.metrics, f.chain.energy(), f.config, f.job);
-  for (const char* name : {"metrics.yaml", "config.yaml", "job.yaml", "job_stats.yaml", "job.png", "trace.csv", "energy_map.png",
-                           "energy_map_16bit.png", "energy_map.yaml", kResultsMarker})
+  for (const char* name : {"metrics.yaml", "config.yaml", "job.yaml", "job_stats.yaml", "job.png", "trace.csv",
+                           "energy_map.png", "energy_map_16bit.png", "energy_map.yaml", kResultsMarker})
     EXPECT_TRUE(fs::exists(dir / name)) << name;
   // PNG signature on the images.
   std::ifstream png(dir / "energy_map.png", std::ios::binary);

@@ -62,8 +62,8 @@ TEST(BoxFilter, RampIsDelayedByHalfTheDuration)
   for (double t_s : {260e-6, 125e-6, 123.4e-6, 3.7e-6})
   {
     BoxFilter<1> filter(t_s, kTs);
-    const double a = 0.3;     // offset [rad]
-    const double b = 2.0;     // slope [rad/s]
+    const double a = 0.3;                   // offset [rad]
+    const double b = 2.0;                   // slope [rad/s]
     filter.reset(BoxFilter<1>::Vector(a));  // at rest at the ramp's start value
     const std::size_t start = static_cast<std::size_t>(std::ceil(t_s / kTs)) + 1;
     for (std::size_t n = 0; n < 5000; ++n)
@@ -172,10 +172,10 @@ TEST(BoxFilter, VelocityStepGivesRectangleThenTrapezoidAcceleration)
     fir2.reset(Eigen::Vector2d::Zero());
     const double plateau = v / t1;
     double prev_v1 = 0.0;
-    std::size_t rect_samples = 0;       // samples of acc1 at the plateau (full period inside)
-    double rect_area = 0.0;             // ∫acc1 dt
-    std::size_t trap_support = 0;       // samples with acc2 > 0
-    std::size_t trap_plateau = 0;       // samples with acc2 at the plateau
+    std::size_t rect_samples = 0;  // samples of acc1 at the plateau (full period inside)
+    double rect_area = 0.0;        // ∫acc1 dt
+    std::size_t trap_support = 0;  // samples with acc2 > 0
+    std::size_t trap_plateau = 0;  // samples with acc2 at the plateau
     double max_err_exact = 0.0;
     for (std::size_t n = 0; n < 200; ++n)
     {

@@ -50,12 +50,12 @@ TEST(Histogram, CountsAndQuantilesOfBinCentres)
 TEST(Histogram, QuantilesLinearWithinTheBin)
 {
   Histogram h(0.0, 4.0, 4);
-  for (double x : { 0.5, 1.5, 0.5, 3.5 })
+  for (double x : {0.5, 1.5, 0.5, 3.5})
     h.add(x);
-  EXPECT_EQ(h.quantile(0.5), 1.0);   // r = 2: the end of bin 0
-  EXPECT_DOUBLE_EQ(h.quantile(0.6), 1.4);   // r = 2.4: 0.4 into bin 1 (1 sample)
-  EXPECT_EQ(h.quantile(0.75), 2.0);  // r = 3: the end of bin 1
-  EXPECT_DOUBLE_EQ(h.quantile(0.8), 3.2);   // r = 3.2: the empty bin 2 skipped, 0.2 into bin 3
+  EXPECT_EQ(h.quantile(0.5), 1.0);         // r = 2: the end of bin 0
+  EXPECT_DOUBLE_EQ(h.quantile(0.6), 1.4);  // r = 2.4: 0.4 into bin 1 (1 sample)
+  EXPECT_EQ(h.quantile(0.75), 2.0);        // r = 3: the end of bin 1
+  EXPECT_DOUBLE_EQ(h.quantile(0.8), 3.2);  // r = 3.2: the empty bin 2 skipped, 0.2 into bin 3
   EXPECT_EQ(h.quantile(0.1), 0.5) << "r = 0.4: 0.2 in bin 0, clamped to min";
   EXPECT_EQ(h.quantile(0.2), 0.5) << "r = 0.8: 0.4, clamped to min";
   EXPECT_DOUBLE_EQ(h.quantile(0.3), 0.6);  // r = 1.2
@@ -70,7 +70,7 @@ TEST(Histogram, OutOfRangeAndNonFiniteAreCountedApart)
   Histogram h(0.0, 1.0, 1);
   h.add(-3.0);  // underflow
   h.add(0.5);
-  h.add(2.0);   // overflow
+  h.add(2.0);  // overflow
   h.add(std::numeric_limits<double>::quiet_NaN());
   h.add(std::numeric_limits<double>::infinity());
   h.add(-std::numeric_limits<double>::infinity());
@@ -113,8 +113,8 @@ TEST(Histogram, EdgesAreExact)
     double lo, hi;
     int bins;
   };
-  for (const Range r : { Range{ 0.0, 1.0, 10 }, Range{ -0.7, 1.3, 7 }, Range{ 1e-6, 3e-6, 13 }, Range{ -5e-5, 5e-5, 100 },
-                         Range{ 0.1, 0.7, 3 }, Range{ -1e300, 1e300, 999 } })
+  for (const Range r : {Range{0.0, 1.0, 10}, Range{-0.7, 1.3, 7}, Range{1e-6, 3e-6, 13}, Range{-5e-5, 5e-5, 100},
+                        Range{0.1, 0.7, 3}, Range{-1e300, 1e300, 999}})
   {
     Histogram h(r.lo, r.hi, r.bins);
     for (int i = 1; i < r.bins; ++i)
@@ -134,7 +134,7 @@ TEST(Histogram, EdgesAreExact)
 TEST(Histogram, MeanIsCompensated)
 {
   Histogram h(-1.0, 1.0, 2);
-  for (double x : { 1e16, 1.0, -1e16 })
+  for (double x : {1e16, 1.0, -1e16})
     h.add(x);
   EXPECT_EQ(h.mean(), 1.0 / 3.0);
   Histogram a(-1.0, 1.0, 2), b(-1.0, 1.0, 2);
@@ -175,7 +175,7 @@ TEST(Histogram, RandomSamplesMergeAndQuantiles)
     EXPECT_EQ(whole.min(), samples.front());
     EXPECT_EQ(whole.max(), samples.back());
     const double width = whole.binEdge(1) - whole.binEdge(0);
-    for (double q : { 0.0, 0.01, 0.1, 0.25, 0.5, 0.75, 0.9, 0.99, 0.999, 1.0 })
+    for (double q : {0.0, 0.01, 0.1, 0.25, 0.5, 0.75, 0.9, 0.99, 0.999, 1.0})
     {
       const double r = q * n;
       const std::size_t rank = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(r)));  // 1-based
@@ -189,7 +189,8 @@ TEST(Histogram, RandomSamplesMergeAndQuantiles)
     for (int i = 0; i <= 26; ++i)
     {
       const double x = whole.binEdge(i);
-      const double exact = static_cast<double>(std::lower_bound(samples.begin(), samples.end(), x) - samples.begin()) / n;
+      const double exact =
+          static_cast<double>(std::lower_bound(samples.begin(), samples.end(), x) - samples.begin()) / n;
       EXPECT_NEAR(whole.fractionBelow(x), exact, 1e-15) << "exact at the edges";
     }
   }

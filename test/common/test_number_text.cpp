@@ -25,11 +25,28 @@ namespace
 /// Edge values plus 2000 doubles from random bit patterns (seed 7), any exponent.
 std::vector<double> probes()
 {
-  std::vector<double> v = { 0.0,     -0.0,    0.1,   -0.8,    100.0,  1000.0, 1e12,   1e-7,  123456.5,
-                            2.5,     -0.004,  1e22,  1e300,   -1e300, 5e-324, 1.0 / 3.0,
-                            std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
-                            std::numeric_limits<double>::min(), std::numeric_limits<double>::infinity(),
-                            -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN() };
+  std::vector<double> v = {0.0,
+                           -0.0,
+                           0.1,
+                           -0.8,
+                           100.0,
+                           1000.0,
+                           1e12,
+                           1e-7,
+                           123456.5,
+                           2.5,
+                           -0.004,
+                           1e22,
+                           1e300,
+                           -1e300,
+                           5e-324,
+                           1.0 / 3.0,
+                           std::numeric_limits<double>::max(),
+                           std::numeric_limits<double>::lowest(),
+                           std::numeric_limits<double>::min(),
+                           std::numeric_limits<double>::infinity(),
+                           -std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::quiet_NaN()};
   SplitMix64 g(7);
   for (int k = 0; k < 2000; ++k)
   {
@@ -74,10 +91,14 @@ TEST(NumberFormatting, SignificantTextIsTheStreamWithThatPrecision)
 {
   for (const double v : probes())
   {
-    for (const int digits : { 4, 6, 9, 12, 17 })
+    for (const int digits : {4, 6, 9, 12, 17})
       ASSERT_EQ(significantText(v, digits), streamed(v, digits)) << v << " at " << digits << " digits";
     ASSERT_EQ(sixDigitText(v), significantText(v, 6));
-    ASSERT_EQ(sixDigitText(v), [&] { std::ostringstream s; s << v; return s.str(); }());
+    ASSERT_EQ(sixDigitText(v), [&] {
+      std::ostringstream s;
+      s << v;
+      return s.str();
+    }());
     ASSERT_EQ(fullPrecisionText(v), significantText(v, 17));
   }
   EXPECT_EQ(significantText(0.1, 12), "0.1");
@@ -87,7 +108,7 @@ TEST(NumberFormatting, SignificantTextIsTheStreamWithThatPrecision)
 TEST(NumberFormatting, FixedTextIsPercentF)
 {
   for (const double v : probes())
-    for (const int decimals : { 0, 2, 6 })
+    for (const int decimals : {0, 2, 6})
       ASSERT_EQ(fixedText(v, decimals), printedF(v, decimals)) << v;
   EXPECT_EQ(fixedText(-0.004, 2), "-0.00");
   EXPECT_EQ(fixedText(1e300, 2).size(), 304u);  // no truncation: 301 digits, the point, 2 decimals

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "fixtures/spot_stream_fixture.hpp"
-#include "scanhead/energy/energy_accumulator.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/energy/energy_accumulator.hpp"
 
 using scanhead::ConfigError;
 using scanhead::EnergyAccumulator;
@@ -152,7 +152,7 @@ TEST(EnergyAccumulator, StraightTrackProfileRippleConservation)
 
   // Cross-track profile at mid-track (x = 1 mm, column 400).
   const int col = 400;
-  for (int dpx : { 0, 7, 14, -7, -14 })
+  for (int dpx : {0, 7, 14, -7, -14})
   {
     const double d = dpx * p;
     const double ref = power / v * std::sqrt(2.0 / M_PI) / w * std::exp(-2.0 * d * d / (w * w));
@@ -268,7 +268,7 @@ TEST(EnergyAccumulator, ChunkInvariance)
   }
   std::vector<std::vector<float>> maps;
   std::vector<double> outsides;
-  for (std::size_t chunk : { 1u, 7u, 1000u })
+  for (std::size_t chunk : {1u, 7u, 1000u})
   {
     EnergyAccumulator acc(cfg, Eigen::Vector2d(0.2e-3, 0.2e-3), Eigen::Vector2d(1.0e-3, 1.0e-3));
     feed(acc, s, chunk);

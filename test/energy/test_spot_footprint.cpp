@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "fixtures/optics_fixture.hpp"
-#include "scanhead/energy/energy_accumulator.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/energy/energy_accumulator.hpp"
 #include "scanhead/optics/optical_model.hpp"
 
 using scanhead::EnergyAccumulator;

@@ -6,8 +6,8 @@
 #include <random>
 #include <vector>
 
-#include "scanhead/energy/energy_accumulator.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/energy/energy_accumulator.hpp"
 
 using scanhead::EnergyAccumulator;
 using scanhead::EnergyConfig;

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "scanhead/energy/energy_accumulator.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/energy/energy_accumulator.hpp"
 #include "scanhead/energy/track_energy.hpp"
 
 using scanhead::ConfigError;
@@ -84,14 +84,14 @@ TEST(TrackEnergy, BilinearClampAndOffMap)
       map.row(j)[i] = static_cast<float>(f(i, j));
   auto at = [&](double u, double v) -> Eigen::Vector2d { return o + Eigen::Vector2d((u + 0.5) * p, (v + 0.5) * p); };
   std::vector<SpotSample> s = {
-    spot(at(3.3, 2.7), 1.0),    // inside: f(3.3, 2.7)
-    spot(at(0.0, 0.0), 1.0),    // a pixel centre
-    spot(at(-0.4, 4.25), 1.0),  // left edge band: clamped to u = 0
-    spot(at(9.45, 5.4), 1.0),   // top-right band: clamped to (9, 5)
-    spot(at(-0.6, 2.0), 1.0),   // off the map (left of the edge)
-    spot(at(4.0, 6.2), 1.0),    // off the map (above)
-    spot(at(9.7, 2.0), 1.0),    // off the map (right of the edge)
-    spot(at(3.0, -0.7), 1.0),   // off the map (below)
+      spot(at(3.3, 2.7), 1.0),    // inside: f(3.3, 2.7)
+      spot(at(0.0, 0.0), 1.0),    // a pixel centre
+      spot(at(-0.4, 4.25), 1.0),  // left edge band: clamped to u = 0
+      spot(at(9.45, 5.4), 1.0),   // top-right band: clamped to (9, 5)
+      spot(at(-0.6, 2.0), 1.0),   // off the map (left of the edge)
+      spot(at(4.0, 6.2), 1.0),    // off the map (above)
+      spot(at(9.7, 2.0), 1.0),    // off the map (right of the edge)
+      spot(at(3.0, -0.7), 1.0),   // off the map (below)
   };
   const TrackEnergyProfile t = trackEnergyProfile(map, s, 0.0);
   ASSERT_EQ(t.energy_jpm2.size(), 8u);
@@ -266,15 +266,15 @@ TEST(TrackEnergy, SpeedDipMatchesSegmentIntegral)
   std::sort(interior.begin(), interior.end());
   const std::size_t n = interior.size();
   const double median = n % 2 ? interior[n / 2] : 0.5 * (interior[n / 2 - 1] + interior[n / 2]);
-  std::cout << "[dip] " << n << " interior samples, worst rel err " << worst << ", peak/median "
-            << t.peakToMedian() << " (analytic " << peak / median << "), at x = " << t.peak_point_m.x() << "\n";
+  std::cout << "[dip] " << n << " interior samples, worst rel err " << worst << ", peak/median " << t.peakToMedian()
+            << " (analytic " << peak / median << "), at x = " << t.peak_point_m.x() << "\n";
   ASSERT_EQ(n, t.interior_samples);
   // Brief: a few %. Expected: bilinear interpolation along x between pixel centres, error at most
   // h²/8·|E''/E|; at the dip 1/v ≈ (1/0.375)·(1 − 3x²/σ²), so |E''/E| ≤ 6/σ² and the bound is
   // h²/8·6/σ² = 8.3e-4 (measured 7.9e-4); float storage adds ~1e-6. 1.5e-3 leaves room for both.
   EXPECT_LT(worst, 1.5e-3);
   EXPECT_LT(relErr(t.peakToMedian(), peak / median), 1.5e-3);
-  EXPECT_GT(t.peakToMedian(), 3.0);  // 1/(1 − 0.75) = 4 at the slowest point, smoothed by the spot
+  EXPECT_GT(t.peakToMedian(), 3.0);              // 1/(1 − 0.75) = 4 at the slowest point, smoothed by the spot
   EXPECT_NEAR(t.peak_point_m.x(), s_dip, 4e-6);  // one sample step at the dip is 3.75 µm
 }
 
@@ -289,16 +289,16 @@ TEST(TrackEnergy, BurstsMedianAndErrors)
   std::vector<SpotSample> s;
   for (int k = 0; k <= 4; ++k)
     s.push_back(spot(Eigen::Vector2d((1.5 + k) * 1e-3, 5e-3), 1.0));  // burst 1: 5 samples, arc 0..4 mm
-  s.push_back(spot(Eigen::Vector2d(9e-3, 9e-3), 0.0));                 // laser off
+  s.push_back(spot(Eigen::Vector2d(9e-3, 9e-3), 0.0));                // laser off
   for (int k = 0; k <= 5; ++k)
-    s.push_back(spot(Eigen::Vector2d(5.5e-3, (2 + k) * 1e-3), 1.0));   // burst 2: 6 samples, arc 4..9 mm
+    s.push_back(spot(Eigen::Vector2d(5.5e-3, (2 + k) * 1e-3), 1.0));  // burst 2: 6 samples, arc 4..9 mm
   const TrackEnergyProfile t = trackEnergyProfile(map, s, 1.5e-3);
   ASSERT_EQ(t.arc_m.size(), 11u);
   EXPECT_NEAR(t.arc_m[4], 4e-3, 1e-15);
   EXPECT_NEAR(t.arc_m[5], 4e-3, 1e-15);  // the gap adds nothing
   EXPECT_NEAR(t.arc_m[10], 9e-3, 1e-15);
   // burst 1: arc 2 mm only (0,1 and 3,4 within 1.5 mm of an end); burst 2: arcs 2, 3 mm into it.
-  const std::vector<char> expected = { 0, 0, 1, 0, 0, 0, 0, 1, 1, 0, 0 };
+  const std::vector<char> expected = {0, 0, 1, 0, 0, 0, 0, 1, 1, 0, 0};
   EXPECT_EQ(t.interior, expected);
   ASSERT_EQ(t.interior_samples, 3u);
   // Values: burst 1 sample 2 at x = 3.5 mm → 3; burst 2 at x = 5.5 mm → 5, 5. Median 5, mean 13/3.

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <string>
 
-#include "scanhead/job/formats/cli_format.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/job/formats/cli_format.hpp"
 
 namespace
 {

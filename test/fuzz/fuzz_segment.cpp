@@ -18,7 +18,8 @@ bool wellFormed(const scanhead::Job& job)
   {
     if (!(p.power_w >= 0.0) || !std::isfinite(p.power_w) || !(p.dwell_s >= 0.0) || !std::isfinite(p.dwell_s))
       return false;
-    if (p.dwell_s > 0.0 ? p.points.size() != 1 : (p.points.size() < 2 || !(p.speed_mps > 0.0) || !std::isfinite(p.speed_mps)))
+    if (p.dwell_s > 0.0 ? p.points.size() != 1
+                        : (p.points.size() < 2 || !(p.speed_mps > 0.0) || !std::isfinite(p.speed_mps)))
       return false;
     for (const Eigen::Vector2d& q : p.points)
       if (!q.allFinite())
@@ -31,7 +32,7 @@ bool wellFormed(const scanhead::Job& job)
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  for (double unit_m : { 1.0, 1e-3 })
+  for (double unit_m : {1.0, 1e-3})
   {
     scanhead::SegmentReadOptions options;
     options.unit_m = unit_m;

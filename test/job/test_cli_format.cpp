@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "fixtures/polyline_fixture.hpp"
-#include "scanhead/job/formats/cli_format.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/job/formats/cli_format.hpp"
 
 namespace scanhead
 {
@@ -69,18 +69,18 @@ Job sampleJob()
   using V = Eigen::Vector2d;
   Job job;
   job.name = "sample job";
+  job.polylines.push_back(
+      line(PolylineType::Mark, 1.0, 200.0, {V(0, 0), V(0.01, 0), V(0.01, 0.01), V(0, 0.01), V(0, 0)}));  // CCW
+  job.polylines.push_back(line(PolylineType::Jump, 4.5, 0.0, {V(0, 0), V(0.002, 0.002)}));
   job.polylines.push_back(line(PolylineType::Mark, 1.0, 200.0,
-                               { V(0, 0), V(0.01, 0), V(0.01, 0.01), V(0, 0.01), V(0, 0) }));  // CCW
-  job.polylines.push_back(line(PolylineType::Jump, 4.5, 0.0, { V(0, 0), V(0.002, 0.002) }));
-  job.polylines.push_back(line(PolylineType::Mark, 1.0, 200.0,
-                               { V(0.002, 0.002), V(0.002, 0.008), V(0.008, 0.002), V(0.002, 0.002) }));  // CW
-  job.polylines.push_back(line(PolylineType::Mark, 0.8, 150.0,
-                               { V(0.002, 0.002), V(-0.0123456789, 0.00333), V(0.0011, -0.0071) }));  // open
+                               {V(0.002, 0.002), V(0.002, 0.008), V(0.008, 0.002), V(0.002, 0.002)}));  // CW
+  job.polylines.push_back(
+      line(PolylineType::Mark, 0.8, 150.0, {V(0.002, 0.002), V(-0.0123456789, 0.00333), V(0.0011, -0.0071)}));  // open
   for (int k = 0; k < 4; ++k)
   {
     const double y = 1e-4 * k;
     const double xs = (k % 2 == 0) ? -0.005 : 0.005;
-    job.polylines.push_back(line(PolylineType::Mark, 0.8, 150.0, { V(xs, y), V(-xs, y) }));
+    job.polylines.push_back(line(PolylineType::Mark, 0.8, 150.0, {V(xs, y), V(-xs, y)}));
   }
   return job;
 }
@@ -93,7 +93,7 @@ TEST(CliFormat, FullFixtureLayer0GivesMarksJumpsAndCliPlusRecipe)
   EXPECT_EQ(job.name, "cli_full_layer0");
   ASSERT_EQ(job.polylines.size(), 6u);  // square, triangle (contiguous), jump, hatch, jump, hatch
   const PolylineType M = PolylineType::Mark, J = PolylineType::Jump;
-  const std::vector<PolylineType> types = { M, M, J, M, J, M };
+  const std::vector<PolylineType> types = {M, M, J, M, J, M};
   for (std::size_t i = 0; i < types.size(); ++i)
     EXPECT_EQ(job.polylines[i].type, types[i]) << i;
   // 1 unit = 0.01 mm = 1e-5 m. Tolerance 1e-18 m: a few ulp of 1e-3 m (units × 1e-3 × value).
@@ -183,7 +183,7 @@ TEST(CliFormat, BinaryLongFormFixture)
 
 TEST(CliFormat, BinaryShortFormPackedAndAligned)
 {
-  for (const char* file : { "cli_short_binary.cli", "cli_short_aligned_binary.cli" })
+  for (const char* file : {"cli_short_binary.cli", "cli_short_aligned_binary.cli"})
   {
     const Job job = readCliFile(kData + file, CliReadOptions());
     // closed square (5 points), jump (0,0)->(0,10), hatch, jump, hatch
@@ -216,7 +216,7 @@ void expectSameMarks(const Job& original, const Job& back, double rel_tol, const
 TEST(CliFormat, AsciiRoundTripWithinPrintedResolution)
 {
   const Job job = sampleJob();
-  for (double units_mm : { 1.0, 0.001, 0.005, 0.0137 })
+  for (double units_mm : {1.0, 0.001, 0.005, 0.0137})
   {
     const std::string text = writeCliAscii(job, units_mm);
     const Job back = parseCli(text, "rt.cli", CliReadOptions());
@@ -240,7 +240,7 @@ TEST(CliFormat, AsciiRoundTripWithinPrintedResolution)
 TEST(CliFormat, BinaryRoundTripWithinFloat32Resolution)
 {
   const Job job = sampleJob();
-  for (double units_mm : { 1.0, 0.001, 0.0137 })
+  for (double units_mm : {1.0, 0.001, 0.0137})
   {
     const std::string bytes = writeCliBinary(job, units_mm);
     const Job back = parseCli(bytes, "rt.cli", CliReadOptions());
@@ -279,23 +279,24 @@ struct BadFile
 TEST(CliFormat, EveryBadFileCategoryNamesTheLineOrOffset)
 {
   const std::vector<BadFile> cases = {
-    { "cli_invalid_no_header.cli", { "cli_invalid_no_header.cli:1: expected $$HEADERSTART" } },
-    { "cli_invalid_no_headerend.cli", { ":5: file ends inside the header: expected $$HEADEREND" } },
-    { "cli_invalid_non_numeric.cli", { ":8: $$POLYLINE: expected a number for y of point 2 of 2, got 'abc'" } },
-    { "cli_invalid_units.cli", { ":3: $$UNITS: expected mm per coordinate unit in [1e-9, 1000], got '-0.01'" } },
-    { "cli_invalid_count.cli", { ":8: $$POLYLINE: expected x of point 3 of 3, got '$$LAYER/1'" } },
-    { "cli_invalid_huge_count.cli",
-      { ":7: $$HATCHES: hatch count n = 1000000000000 needs 4000000000000 numbers, more than the remaining" } },
-    { "cli_invalid_unknown_command.cli", { ":7: unknown command '$$CIRCLE'" } },
-    { "cli_invalid_no_geometryend.cli", { ":8: file ends inside the geometry section: expected $$GEOMETRYEND" } },
-    { "cli_invalid_truncated_binary.cli",
-      { ": byte offset 73: count n = 2 of points of 'polyline long' needs 16 bytes, but only 6 remain" } },
-    { "cli_invalid_huge_count_binary.cli",
-      { ": byte offset 71: count n = 2147483647 of points of 'polyline long' needs 17179869176 bytes, but only 8 "
-        "remain" } },
-    { "cli_invalid_unknown_command_binary.cli", { ": byte offset 61: unknown command index 200" } },
-    // found by fuzz_cli (UBSan: a negative count was cast to an integer for the message)
-    { "cli_invalid_fuzz_negative_count.cli", { ":6: $$POLYLINE: expected point count n >= 0, got -8.8000000073388e+22" } },
+      {"cli_invalid_no_header.cli", {"cli_invalid_no_header.cli:1: expected $$HEADERSTART"}},
+      {"cli_invalid_no_headerend.cli", {":5: file ends inside the header: expected $$HEADEREND"}},
+      {"cli_invalid_non_numeric.cli", {":8: $$POLYLINE: expected a number for y of point 2 of 2, got 'abc'"}},
+      {"cli_invalid_units.cli", {":3: $$UNITS: expected mm per coordinate unit in [1e-9, 1000], got '-0.01'"}},
+      {"cli_invalid_count.cli", {":8: $$POLYLINE: expected x of point 3 of 3, got '$$LAYER/1'"}},
+      {"cli_invalid_huge_count.cli",
+       {":7: $$HATCHES: hatch count n = 1000000000000 needs 4000000000000 numbers, more than the remaining"}},
+      {"cli_invalid_unknown_command.cli", {":7: unknown command '$$CIRCLE'"}},
+      {"cli_invalid_no_geometryend.cli", {":8: file ends inside the geometry section: expected $$GEOMETRYEND"}},
+      {"cli_invalid_truncated_binary.cli",
+       {": byte offset 73: count n = 2 of points of 'polyline long' needs 16 bytes, but only 6 remain"}},
+      {"cli_invalid_huge_count_binary.cli",
+       {": byte offset 71: count n = 2147483647 of points of 'polyline long' needs 17179869176 bytes, but only 8 "
+        "remain"}},
+      {"cli_invalid_unknown_command_binary.cli", {": byte offset 61: unknown command index 200"}},
+      // found by fuzz_cli (UBSan: a negative count was cast to an integer for the message)
+      {"cli_invalid_fuzz_negative_count.cli",
+       {":6: $$POLYLINE: expected point count n >= 0, got -8.8000000073388e+22"}},
   };
   for (const BadFile& c : cases)
   {
@@ -343,15 +344,16 @@ TEST(CliFormat, AbsurdUnitsAndHeaderProblems)
   const auto withUnits = [](const std::string& u) {
     return "$$HEADERSTART\n$$ASCII\n$$UNITS/" + u + "\n$$HEADEREND\n";
   };
-  for (const char* u : { "0", "-1", "1e-10", "1001", "1e400" })
+  for (const char* u : {"0", "-1", "1e-10", "1001", "1e400"})
     EXPECT_NE(errorOf(withUnits(u)).find("bad.cli:3: $$UNITS: expected"), std::string::npos) << u;
   EXPECT_NE(errorOf(withUnits("nan")).find("bad.cli:3: $$UNITS: expected a finite number, got 'nan'"),
             std::string::npos);
   EXPECT_NE(errorOf(withUnits("1mm")).find("bad.cli:3: $$UNITS: expected a number, got '1mm'"), std::string::npos);
   EXPECT_NE(errorOf("$$HEADERSTART\n$$ASCII\n$$HEADEREND\n").find("bad.cli:3: header has no $$UNITS"),
             std::string::npos);
-  EXPECT_NE(errorOf("$$HEADERSTART\n$$UNITS/1\n$$HEADEREND\n").find("bad.cli:3: header has neither $$ASCII nor $$BINARY"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf("$$HEADERSTART\n$$UNITS/1\n$$HEADEREND\n").find("bad.cli:3: header has neither $$ASCII nor $$BINARY"),
+      std::string::npos);
   EXPECT_NE(errorOf("$$HEADERSTART\n$$ASCII\nUNITS/1\n").find("bad.cli:3: expected a header command"),
             std::string::npos);
 }
@@ -359,13 +361,17 @@ TEST(CliFormat, AbsurdUnitsAndHeaderProblems)
 TEST(CliFormat, GeometryErrorsNameTheLine)
 {
   const std::string head = "$$HEADERSTART\n$$ASCII\n$$UNITS/1\n$$HEADEREND\n$$GEOMETRYSTART\n";
-  EXPECT_NE(errorOf(head + "$$POLYLINE/1,2,2,0,0,1,1\n$$GEOMETRYEND\n").find("bad.cli:6: $$POLYLINE before any $$LAYER"),
+  EXPECT_NE(
+      errorOf(head + "$$POLYLINE/1,2,2,0,0,1,1\n$$GEOMETRYEND\n").find("bad.cli:6: $$POLYLINE before any $$LAYER"),
+      std::string::npos);
+  EXPECT_NE(errorOf(head + "$$LAYER/0\n$$POLYLINE/1,3,2,0,0,1,1\n$$GEOMETRYEND\n")
+                .find("bad.cli:7: $$POLYLINE: expected dir 0"),
             std::string::npos);
-  EXPECT_NE(errorOf(head + "$$LAYER/0\n$$POLYLINE/1,3,2,0,0,1,1\n$$GEOMETRYEND\n").find("bad.cli:7: $$POLYLINE: expected dir 0"),
+  EXPECT_NE(errorOf(head + "$$LAYER/0\n$$POLYLINE/1,2,2,0,0,1,1,5\n$$GEOMETRYEND\n")
+                .find("bad.cli:7: $$POLYLINE: more parameters"),
             std::string::npos);
-  EXPECT_NE(errorOf(head + "$$LAYER/0\n$$POLYLINE/1,2,2,0,0,1,1,5\n$$GEOMETRYEND\n").find("bad.cli:7: $$POLYLINE: more parameters"),
-            std::string::npos);
-  EXPECT_NE(errorOf(head + "$$LAYER/0\n$$POLYLINE/1,2,1.5,0,0\n$$GEOMETRYEND\n").find("expected an integer for point count n"),
+  EXPECT_NE(errorOf(head + "$$LAYER/0\n$$POLYLINE/1,2,1.5,0,0\n$$GEOMETRYEND\n")
+                .find("expected an integer for point count n"),
             std::string::npos);
   EXPECT_NE(errorOf(head + "$$LAYER/0\n$$SPEED/0\n$$GEOMETRYEND\n").find("bad.cli:7: $$SPEED: expected a speed > 0"),
             std::string::npos);
@@ -377,7 +383,8 @@ TEST(CliFormat, GeometryErrorsNameTheLine)
             std::string::npos);
   EXPECT_NE(errorOf(head + "$$LAYER/0\n$$GEOMETRYEND\ntrailing\n").find("bad.cli:8: expected the end of the file"),
             std::string::npos);
-  EXPECT_NE(errorOf("$$HEADERSTART\n$$ASCII\n$$UNITS/1\n$$HEADEREND\n$$LAYER/0\n").find("bad.cli:5: expected $$GEOMETRYSTART"),
+  EXPECT_NE(errorOf("$$HEADERSTART\n$$ASCII\n$$UNITS/1\n$$HEADEREND\n$$LAYER/0\n")
+                .find("bad.cli:5: expected $$GEOMETRYSTART"),
             std::string::npos);
 }
 

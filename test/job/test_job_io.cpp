@@ -3,10 +3,10 @@
 
 #include <cmath>
 
-#include "scanhead/job/generators/builtin_jobs.hpp"
-#include "scanhead/job/job_files.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/job/generators/builtin_jobs.hpp"
+#include "scanhead/job/job_files.hpp"
 
 using namespace scanhead;
 
@@ -61,23 +61,28 @@ TEST(JobIo, RoundTripIsExact)
 
 TEST(JobIo, ErrorsNameFileLineAndField)
 {
-  EXPECT_NE(errorOf([] { loadScanJobFile(kData + "job_invalid_unknown_key.yaml"); })
-                .find("job_invalid_unknown_key.yaml:6: polylines[0]: unknown key 'colour'"),
+  EXPECT_NE(errorOf([] {
+              loadScanJobFile(kData + "job_invalid_unknown_key.yaml");
+            }).find("job_invalid_unknown_key.yaml:6: polylines[0]: unknown key 'colour'"),
             std::string::npos);
   EXPECT_NE(errorOf([] { loadScanJobFile(kData + "job_invalid_malformed.yaml"); }).find("malformed YAML"),
             std::string::npos);
   EXPECT_NE(errorOf([] { loadScanJobFile(kData + "no_such_file.yaml"); }).find("cannot open"), std::string::npos);
-  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, speed: .nan, power: 1, points: [[0,0],[1e-3,0]]}"), "f.yaml"); })
-                .find("f.yaml:3: polylines[0].speed: '.nan' is not a number"),
+  EXPECT_NE(errorOf([] {
+              parseScanJobYaml(job("{type: mark, speed: .nan, power: 1, points: [[0,0],[1e-3,0]]}"), "f.yaml");
+            }).find("f.yaml:3: polylines[0].speed: '.nan' is not a number"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, speed: 1, power: 1, points: [[0,0]]}"), "f.yaml"); })
-                .find("polylines[0].points: needs at least 2 points (got 1)"),
+  EXPECT_NE(errorOf([] {
+              parseScanJobYaml(job("{type: mark, speed: 1, power: 1, points: [[0,0]]}"), "f.yaml");
+            }).find("polylines[0].points: needs at least 2 points (got 1)"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: burn, speed: 1, power: 1, points: [[0,0],[1,0]]}"), "f.yaml"); })
-                .find("polylines[0].type: 'burn' is not mark or jump"),
+  EXPECT_NE(errorOf([] {
+              parseScanJobYaml(job("{type: burn, speed: 1, power: 1, points: [[0,0],[1,0]]}"), "f.yaml");
+            }).find("polylines[0].type: 'burn' is not mark or jump"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, speed: 1, power: 1, points: [[0,0],[1,x]]}"), "f.yaml"); })
-                .find("polylines[0].points[1].y: 'x' is not a number"),
+  EXPECT_NE(errorOf([] {
+              parseScanJobYaml(job("{type: mark, speed: 1, power: 1, points: [[0,0],[1,x]]}"), "f.yaml");
+            }).find("polylines[0].points[1].y: 'x' is not a number"),
             std::string::npos);
 }
 
@@ -110,21 +115,26 @@ TEST(JobIo, DwellPolylines)
   // a line has no dwell key on output
   EXPECT_EQ(scanJobToYaml(builtinJob("corner")).find("dwell"), std::string::npos);
 
-  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, power: 1, dwell: 0.001, points: [[0,0],[1e-3,0]]}"), "f.yaml"); })
-                .find("f.yaml:3: polylines[0].points: a dwell needs exactly 1 point (got 2)"),
+  EXPECT_NE(errorOf([] {
+              parseScanJobYaml(job("{type: mark, power: 1, dwell: 0.001, points: [[0,0],[1e-3,0]]}"), "f.yaml");
+            }).find("f.yaml:3: polylines[0].points: a dwell needs exactly 1 point (got 2)"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, power: 1, dwell: -1, points: [[0,0]]}"), "f.yaml"); })
-                .find("f.yaml:3: polylines[0].dwell must be >= 0 s (got -1)"),
+  EXPECT_NE(errorOf([] {
+              parseScanJobYaml(job("{type: mark, power: 1, dwell: -1, points: [[0,0]]}"), "f.yaml");
+            }).find("f.yaml:3: polylines[0].dwell must be >= 0 s (got -1)"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, power: 1, dwell: 1e999, points: [[0,0]]}"), "f.yaml"); })
-                .find("polylines[0].dwell: '1e999' is not a finite number"),
+  EXPECT_NE(errorOf([] {
+              parseScanJobYaml(job("{type: mark, power: 1, dwell: 1e999, points: [[0,0]]}"), "f.yaml");
+            }).find("polylines[0].dwell: '1e999' is not a finite number"),
             std::string::npos);
   // dwell 0 is a line: one point is not enough, and the speed is required
-  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, speed: 1, power: 1, dwell: 0, points: [[0,0]]}"), "f.yaml"); })
-                .find("polylines[0].points: needs at least 2 points (got 1)"),
+  EXPECT_NE(errorOf([] {
+              parseScanJobYaml(job("{type: mark, speed: 1, power: 1, dwell: 0, points: [[0,0]]}"), "f.yaml");
+            }).find("polylines[0].points: needs at least 2 points (got 1)"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { parseScanJobYaml(job("{type: mark, power: 1, points: [[0,0],[1e-3,0]]}"), "f.yaml"); })
-                .find("polylines[0].speed: missing (m/s)"),
+  EXPECT_NE(errorOf([] {
+              parseScanJobYaml(job("{type: mark, power: 1, points: [[0,0],[1e-3,0]]}"), "f.yaml");
+            }).find("polylines[0].speed: missing (m/s)"),
             std::string::npos);
 
   auto invalid = [](void (*edit)(Polyline&)) {
@@ -136,13 +146,16 @@ TEST(JobIo, DwellPolylines)
             std::string::npos);
   EXPECT_NE(invalid([](Polyline& p) { p.dwell_s = std::nan(""); }).find("polylines[0].dwell must be >= 0 s (got nan)"),
             std::string::npos);
-  EXPECT_NE(invalid([](Polyline& p) { p.points.push_back({1e-3, 0}); })
-                .find("polylines[0].points: a dwell needs exactly 1 point (got 2)"),
+  EXPECT_NE(invalid([](Polyline& p) {
+              p.points.push_back({1e-3, 0});
+            }).find("polylines[0].points: a dwell needs exactly 1 point (got 2)"),
             std::string::npos);
   EXPECT_NE(invalid([](Polyline& p) { p.dwell_s = 0.0; }).find("polylines[0].points: needs at least 2 points (got 1)"),
             std::string::npos);
   EXPECT_EQ(invalid([](Polyline& p) { p.speed_mps = 0.0; }), "");  // a dwell's speed is unused
-  EXPECT_NE(invalid([](Polyline& p) { p.points[0] = {0.2, 0}; }).find("polylines[0].points[0] = (0.20000000000000001, 0) m"),
+  EXPECT_NE(invalid([](Polyline& p) {
+              p.points[0] = {0.2, 0};
+            }).find("polylines[0].points[0] = (0.20000000000000001, 0) m"),
             std::string::npos);
 }
 
@@ -157,5 +170,6 @@ TEST(BuiltinJobs, CornerGeometry)
   EXPECT_NEAR(p[2].y(), 0.0032, 1e-7);
   EXPECT_NE(errorOf([] { builtinJob("corner:sped=2"); }).find("unknown key 'sped'"), std::string::npos);
   EXPECT_NE(errorOf([] { loadJob("square", CamConfig{}); }).find("no built-in job named 'square'"), std::string::npos);
-  EXPECT_NE(errorOf([] { loadJob("/no/such/job.yaml", CamConfig{}); }).find("cannot open the job file"), std::string::npos);
+  EXPECT_NE(errorOf([] { loadJob("/no/such/job.yaml", CamConfig{}); }).find("cannot open the job file"),
+            std::string::npos);
 }

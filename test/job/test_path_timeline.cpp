@@ -10,10 +10,10 @@
 #include "scanhead/job/path_timeline.hpp"
 #include "scanhead/job/scan_job.hpp"
 
+using scanhead::Job;
 using scanhead::PathTimeline;
 using scanhead::Polyline;
 using scanhead::PolylineType;
-using scanhead::Job;
 
 namespace
 {
@@ -160,7 +160,7 @@ TEST(PathTimeline, RejectsBadSpeeds)
   job.polylines[0].speed_mps = 1.0;
   job.polylines.push_back(line(PolylineType::Mark, 1.0, 1.0, {{2e-3, 0}, {3e-3, 0}}));
   EXPECT_THROW(PathTimeline(job, 0.0), scanhead::ConfigError);  // a jump is needed
-  EXPECT_NO_THROW(PathTimeline(Job(), 0.0));                 // empty job: nothing to time
+  EXPECT_NO_THROW(PathTimeline(Job(), 0.0));                    // empty job: nothing to time
 }
 
 // Corners inside MARK polylines, timed on the same timeline (the implicit jump counts),

@@ -149,21 +149,21 @@ TEST(Recipe, ApplyRecipeByRole)
   Job job;
   job.name = "roles";
   job.polylines.push_back(mark(PolylineRole::Contour, {{0, 0}, {1e-3, 0}, {1e-3, 1e-3}}));  // 0
-  job.polylines.push_back(jump({{1e-3, 1e-3}, {2e-3, 0}}));                                  // 1: contour jump
-  job.polylines.push_back(mark(PolylineRole::Contour, {{2e-3, 0}, {3e-3, 0}}));              // 2
-  job.polylines.push_back(jump({{3e-3, 0}, {4e-3, 0}}));                                     // 3: contour→hatch
-  job.polylines.push_back(mark(PolylineRole::Hatch, {{4e-3, 0}, {5e-3, 0}}));                // 4
-  job.polylines.push_back(jump({{5e-3, 0}, {6e-3, 0}}));                                     // 5: hatch→unspecified
-  job.polylines.push_back(mark(PolylineRole::Unspecified, {{6e-3, 0}, {7e-3, 0}}));          // 6
-  scanhead::Polyline spot = mark(PolylineRole::Hatch, {{7e-3, 0}});                          // 7: dwell
+  job.polylines.push_back(jump({{1e-3, 1e-3}, {2e-3, 0}}));                                 // 1: contour jump
+  job.polylines.push_back(mark(PolylineRole::Contour, {{2e-3, 0}, {3e-3, 0}}));             // 2
+  job.polylines.push_back(jump({{3e-3, 0}, {4e-3, 0}}));                                    // 3: contour→hatch
+  job.polylines.push_back(mark(PolylineRole::Hatch, {{4e-3, 0}, {5e-3, 0}}));               // 4
+  job.polylines.push_back(jump({{5e-3, 0}, {6e-3, 0}}));                                    // 5: hatch→unspecified
+  job.polylines.push_back(mark(PolylineRole::Unspecified, {{6e-3, 0}, {7e-3, 0}}));         // 6
+  scanhead::Polyline spot = mark(PolylineRole::Hatch, {{7e-3, 0}});                         // 7: dwell
   spot.dwell_s = 2e-3;
   spot.speed_mps = 0.0;
   job.polylines.push_back(spot);
-  job.polylines.push_back(jump({{7e-3, 0}, {8e-3, 0}}));                                     // 8
-  job.polylines.push_back(mark(PolylineRole::Contour, {{8e-3, 0}, {9e-3, 0}}));              // 9
-  job.polylines.push_back(jump({{9e-3, 0}, {9e-3, 1e-3}}));                                  // 10: jump→jump
-  job.polylines.push_back(jump({{9e-3, 1e-3}, {10e-3, 1e-3}}));                              // 11
-  job.polylines.push_back(mark(PolylineRole::Contour, {{10e-3, 1e-3}, {11e-3, 1e-3}}));      // 12
+  job.polylines.push_back(jump({{7e-3, 0}, {8e-3, 0}}));                                 // 8
+  job.polylines.push_back(mark(PolylineRole::Contour, {{8e-3, 0}, {9e-3, 0}}));          // 9
+  job.polylines.push_back(jump({{9e-3, 0}, {9e-3, 1e-3}}));                              // 10: jump→jump
+  job.polylines.push_back(jump({{9e-3, 1e-3}, {10e-3, 1e-3}}));                          // 11
+  job.polylines.push_back(mark(PolylineRole::Contour, {{10e-3, 1e-3}, {11e-3, 1e-3}}));  // 12
 
   Recipe r;
   r.override_job = true;

@@ -17,9 +17,9 @@ using Eigen::Vector2d;
 namespace
 {
 const std::string kData = std::string(SCANHEAD_SOURCE_DIR) + "/test/data/";
-constexpr double kInside = 1e-12;    // m: clipped points lie on edges up to rounding of mm coordinates
-constexpr double kSpacing = 1e-9;    // m: the brief's tolerance on measured hatch spacing
-constexpr double kAngle = 1e-9;      // rad: on measured hatch angle
+constexpr double kInside = 1e-12;  // m: clipped points lie on edges up to rounding of mm coordinates
+constexpr double kSpacing = 1e-9;  // m: the brief's tolerance on measured hatch spacing
+constexpr double kAngle = 1e-9;    // rad: on measured hatch angle
 
 HatchStyle style(double spacing_m, double angle_rad, bool meander)
 {

@@ -11,10 +11,10 @@
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/job/formats/segment_path.hpp"
+#include "scanhead/job/path_timeline.hpp"
 #include "scanhead/nc/nc_interpolator.hpp"
 #include "scanhead/optics/optical_model.hpp"
-#include "scanhead/job/path_timeline.hpp"
-#include "scanhead/job/formats/segment_path.hpp"
 
 #ifndef SCANHEAD_SOURCE_DIR
 #error "SCANHEAD_SOURCE_DIR must be defined (the package root, for test/data)"
@@ -88,8 +88,9 @@ TEST(SegmentPath, ReadsTheAdamantineLExample)
   EXPECT_NO_THROW(validateScanJob(job, 0.175));
   // exact_count: its header says 2 segments for 3 rows
   options.exact_count = true;
-  EXPECT_NE(errorOf([&] { readSegmentFile(kData + "segment_path_L.txt", options); })
-                .find("segment_path_L.txt:2: count: the header says 2 segments but the file has 3 rows"),
+  EXPECT_NE(errorOf([&] {
+              readSegmentFile(kData + "segment_path_L.txt", options);
+            }).find("segment_path_L.txt:2: count: the header says 2 segments but the file has 3 rows"),
             std::string::npos);
 }
 
@@ -115,10 +116,11 @@ TEST(SegmentPath, AdditiveFoamLayoutHasPowerInWatts)
 {
   SegmentReadOptions options;
   options.power_w = 1000.0;  // not used: the file gives watts
-  const std::string text = "Mode    X       Y       Z       Power       Param\n"
-                           "1       0.000   0.000   0       0           0\n"
-                           "0       0.002   0.000   0       195         0.8\n"
-                           "1       0.002   0.000   0       50          2e-4\n";
+  const std::string text =
+      "Mode    X       Y       Z       Power       Param\n"
+      "1       0.000   0.000   0       0           0\n"
+      "0       0.002   0.000   0       195         0.8\n"
+      "1       0.002   0.000   0       50          2e-4\n";
   EXPECT_TRUE(looksLikeSegmentPath(text));
   const Job job = parseSegmentPath(text, "scanPath", options);
   ASSERT_EQ(job.polylines.size(), 2u);
@@ -129,7 +131,8 @@ TEST(SegmentPath, AdditiveFoamLayoutHasPowerInWatts)
   EXPECT_EQ(job.polylines[1].dwell_s, 2e-4);
   EXPECT_NE(parseError("Mode X Y Z Power Param\n1 0 0 0 -5 0\n").find("p.txt:2: power: must be >= 0 (got -5)"),
             std::string::npos);
-  EXPECT_NE(parseError("Mode X Y Z Power Param\n1 0 0 0 0\n").find("p.txt:2: row: expected 6 columns (mode x y z power param)"),
+  EXPECT_NE(parseError("Mode X Y Z Power Param\n1 0 0 0 0\n")
+                .find("p.txt:2: row: expected 6 columns (mode x y z power param)"),
             std::string::npos);
   EXPECT_NE(parseError("Mode X Y Z Power Param\n").find("p.txt:2: row: no segment row after the header"),
             std::string::npos);
@@ -216,12 +219,14 @@ TEST(SegmentPath, ErrorsNameFileLineAndField)
   // huge count: refused against the bytes that follow, before anything is read or reserved
   has(parseError(file(1000000000, start)), "p.txt:2: count: 1000000000 segments cannot fit in the 15 bytes");
   has(parseError(kHeader + "123456789012345678901234\nMode\n" + start), "p.txt:2: count: '1234567890123456789012");
-  has(parseError(file(0, "1 0 0 0 0\n")), "p.txt:4: row: expected 6 columns (mode x y z power_coefficient param), got 5");
+  has(parseError(file(0, "1 0 0 0 0\n")),
+      "p.txt:4: row: expected 6 columns (mode x y z power_coefficient param), got 5");
   has(parseError(file(1, "1 0 0 0 0 1 7\n")), "p.txt:4: row: expected 6 columns");
   has(parseError(file(2, start + "0 1e-3 abc 0 1 1\n")), "p.txt:5: y: 'abc' is not a number");
   has(parseError(file(2, start + "0 1e-3 0 0 nan 1\n")), "p.txt:5: power_coefficient: 'nan' is not a finite number");
   has(parseError(file(2, start + "0 1e-3 0 0 1 1e999\n")), "p.txt:5: param: '1e999' is not a finite number");
-  has(parseError(file(2, start + "2 1e-3 0 0 1 1\n")), "p.txt:5: mode: 2 is not a known mode (expected 0: line, 1: spot)");
+  has(parseError(file(2, start + "2 1e-3 0 0 1 1\n")),
+      "p.txt:5: mode: 2 is not a known mode (expected 0: line, 1: spot)");
   has(parseError(file(2, start + "0 1e-3 0 0 1 -0.8\n")), "p.txt:5: param: a line's speed must be > 0 m/s (got -0.8)");
   has(parseError(file(2, start + "0 1e-3 0 0 1 0\n")), "p.txt:5: param: a line's speed must be > 0 m/s (got 0)");
   has(parseError(file(2, start + "1 1e-3 0 0 1 -1e-3\n")), "p.txt:5: param: a spot's dwell time must be >= 0 s");
@@ -258,17 +263,18 @@ TEST(SegmentPath, LooksLikeSegmentPath)
   EXPECT_FALSE(looksLikeSegmentPath("Number of path segments\nMode x y z\n"));  // no count
   EXPECT_FALSE(looksLikeSegmentPath(std::string("\x00\x01\x02Mode\n", 8)));
   EXPECT_FALSE(looksLikeSegmentPath("Modes x y z pmod param\n1 0 0 0 0 0\n"));  // "Modes" is not "Mode"
-  EXPECT_FALSE(looksLikeSegmentPath("Mode x y\n1 0 0\n"));  // a header of 3 words
+  EXPECT_FALSE(looksLikeSegmentPath("Mode x y\n1 0 0\n"));                      // a header of 3 words
 }
 
 // Robustness: 3000 random byte mutations of the L example (seeded) either parse to a job or
 // throw InputError; nothing else (no crash, no other exception). The fuzz target goes further.
 TEST(SegmentPath, MutatedFilesOnlyThrowInputError)
 {
-  const std::string base = kHeader + "2\nMode    x       y     z   pmod    param\n"
-                                     "1       0.000   0.000  0   0       1e-6\n"
-                                     "0       0.002   0.000  0   1       0.8\n"
-                                     "0       0.002   0.0018  0   1       0.8\n";
+  const std::string base = kHeader +
+                           "2\nMode    x       y     z   pmod    param\n"
+                           "1       0.000   0.000  0   0       1e-6\n"
+                           "0       0.002   0.000  0   1       0.8\n"
+                           "0       0.002   0.0018  0   1       0.8\n";
   std::mt19937 rng(12345);
   const char alphabet[] = "0123456789 .-+eE\n\tMmx";
   int parsed = 0;
@@ -281,9 +287,15 @@ TEST(SegmentPath, MutatedFilesOnlyThrowInputError)
       const std::size_t at = rng() % text.size();
       switch (rng() % 3)
       {
-        case 0: text[at] = alphabet[rng() % (sizeof alphabet - 1)]; break;
-        case 1: text.erase(at, 1 + rng() % 8); break;
-        default: text.insert(at, 1, static_cast<char>(rng() % 256)); break;
+        case 0:
+          text[at] = alphabet[rng() % (sizeof alphabet - 1)];
+          break;
+        case 1:
+          text.erase(at, 1 + rng() % 8);
+          break;
+        default:
+          text.insert(at, 1, static_cast<char>(rng() % 256));
+          break;
       }
       if (text.empty())
         text = "\n";

@@ -86,7 +86,7 @@ TEST(Shape, HoleRingsAreHolesAndOriented)
 {
   const Shape h = readPolygonFile(kData + "polygon_holes_full.txt");
   ASSERT_EQ(h.rings.size(), 2u);
-  EXPECT_EQ(h.rings[0].size(), 4u);  // repeated closing vertex dropped
+  EXPECT_EQ(h.rings[0].size(), 4u);          // repeated closing vertex dropped
   EXPECT_NEAR(shapeArea(h), 8.4e-5, 1e-18);  // 100 − 16 mm²: outer CCW, hole CW
   EXPECT_FALSE(containsPoint(h, Vector2d(0.0, 0.0)));
   EXPECT_TRUE(containsPoint(h, Vector2d(0.003, 0.0)));
@@ -123,8 +123,8 @@ TEST(Shape, ClippingMatchesDenseSamplingOnConcaveAndHoledShapes)
 {
   // Independent check: membership of 20001 samples along each segment vs the intervals; samples
   // within 1e-12 of a cut are skipped (boundary points may go either way).
-  const Shape shapes[] = {readPolygonFile(kData + "polygon_l_shape.txt"), readPolygonFile(kData + "polygon_holes_full.txt"),
-                          makeCircle(Vector2d::Zero(), 0.004, 1e-6)};
+  const Shape shapes[] = {readPolygonFile(kData + "polygon_l_shape.txt"),
+                          readPolygonFile(kData + "polygon_holes_full.txt"), makeCircle(Vector2d::Zero(), 0.004, 1e-6)};
   const Vector2d segments[][2] = {{Vector2d(-0.02, 0.006), Vector2d(0.02, 0.006)},
                                   {Vector2d(-0.02, 0.0), Vector2d(0.02, 0.0)},
                                   {Vector2d(-0.01, -0.01), Vector2d(0.012, 0.011)},
@@ -166,7 +166,8 @@ TEST(Shape, ClipperGivesTheSameBitsAsTheFreeFunctions)
 {
   // Seeded sweep (seed 6, 3000 segments per shape) over the bounding box and beyond, plus
   // horizontal segments through every vertex (the band edges of the index).
-  const Shape shapes[] = {readPolygonFile(kData + "polygon_l_shape.txt"), readPolygonFile(kData + "polygon_holes_full.txt"),
+  const Shape shapes[] = {readPolygonFile(kData + "polygon_l_shape.txt"),
+                          readPolygonFile(kData + "polygon_holes_full.txt"),
                           makeCircle(Vector2d(0.001, 0.0), 0.004, 1e-7), makeRectangle(0.01, 0.002)};
   std::mt19937_64 rng(6);
   std::uniform_real_distribution<double> coord(-0.008, 0.008);
@@ -203,7 +204,7 @@ TEST(Shape, OffsetOfARectangleIsExact)
   EXPECT_NEAR(shapeArea(o), 0.008 * 0.004, 1e-18);
   for (const Vector2d& p : o.rings[0])
     EXPECT_NEAR(distanceToBoundary(r, p), 0.001, 1e-15);  // rounding of mm coordinates
-  EXPECT_TRUE(offsetInward(r, 0.003).rings.empty());  // = half the height: nothing left
+  EXPECT_TRUE(offsetInward(r, 0.003).rings.empty());      // = half the height: nothing left
   EXPECT_TRUE(offsetInward(r, 0.004).rings.empty());
   EXPECT_TRUE(has(errorOf<ConfigError>([&] { offsetInward(r, -1.0); }), "must be > 0"));
 }

@@ -8,8 +8,8 @@
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/job/formats/job_io.hpp"
-#include "scanhead/job/job_stats.hpp"
 #include "scanhead/job/generators/thesis_square_job.hpp"
+#include "scanhead/job/job_stats.hpp"
 
 namespace scanhead
 {
@@ -177,8 +177,8 @@ TEST(ThesisSquareJob, SquaresRowByRowFromTheBottomRight)
       ASSERT_EQ(lead.type, PolylineType::Jump);
       EXPECT_EQ(sj.square_of_polyline[indices(i).inner - 1], i);
       const double len = (lead.points.back() - lead.points.front()).norm();
-      (from_right == 0 ? min_long_jump : max_small_jump) = from_right == 0 ? std::min(min_long_jump, len)
-                                                                            : std::max(max_small_jump, len);
+      (from_right == 0 ? min_long_jump : max_small_jump) =
+          from_right == 0 ? std::min(min_long_jump, len) : std::max(max_small_jump, len);
     }
   }
   EXPECT_GT(min_long_jump, 2.0 * max_small_jump);  // "petit jump" along a row, "grand jump" between rows
@@ -239,8 +239,8 @@ TEST(ThesisSquareJob, PerSquareTimesOfRecipes1And2MatchTheSpeeds)
   const long n = std::lround(a * std::sqrt(2.0) / p.hatch_spacing_m);
   const double c_last = -0.5 * (n - 1) * p.hatch_spacing_m * std::sqrt(2.0);
   // last line index n−1: even → ends at its top-edge end (a/2 + c, a/2), odd → its left-edge end
-  const Eigen::Vector2d hatch_end = (n - 1) % 2 == 0 ? Eigen::Vector2d(a / 2 + c_last, a / 2)
-                                                     : Eigen::Vector2d(-a / 2, -a / 2 - c_last);
+  const Eigen::Vector2d hatch_end =
+      (n - 1) % 2 == 0 ? Eigen::Vector2d(a / 2 + c_last, a / 2) : Eigen::Vector2d(-a / 2, -a / 2 - c_last);
   const double inner_half = p.side_m / 2 - p.contour_offset_m;
   const Eigen::Vector2d inner_br(inner_half, -inner_half);
   const double pitch = p.pitch_m();

@@ -19,18 +19,18 @@
 #include <string>
 #include <vector>
 
-#include "scanhead/metrics/contour_error.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/metrics/contour_error.hpp"
 
+using Eigen::Vector2d;
 using scanhead::ContourErrorStats;
 using scanhead::InputError;
+using scanhead::nearestPathDistanceBruteForce;
 using scanhead::NearestPathIndex;
 using scanhead::NearestPathWork;
 using scanhead::NumericalError;
 using scanhead::PathPoints;
-using scanhead::nearestPathDistanceBruteForce;
 using scanhead::sameInstantDistance;
-using Eigen::Vector2d;
 
 namespace
 {
@@ -122,12 +122,18 @@ const char* kindName(Kind k)
 {
   switch (k)
   {
-    case Kind::RandomWalk: return "random walk";
-    case Kind::DenseZigZag: return "dense zig-zag";
-    case Kind::WithBreaks: return "with breaks";
-    case Kind::AtRest: return "at rest";
-    case Kind::SparseField: return "sparse field";
-    default: return "long segments";
+    case Kind::RandomWalk:
+      return "random walk";
+    case Kind::DenseZigZag:
+      return "dense zig-zag";
+    case Kind::WithBreaks:
+      return "with breaks";
+    case Kind::AtRest:
+      return "at rest";
+    case Kind::SparseField:
+      return "sparse field";
+    default:
+      return "long segments";
   }
 }
 
@@ -237,7 +243,8 @@ std::vector<Vector2d> queries(const PathPoints& path, std::mt19937_64& rng)
   for (int k = 0; k < 120; ++k)
     q.push_back(pick() + 3e-5 * Vector2d(gauss(rng), gauss(rng)));
   for (int k = 0; k < 30; ++k)
-    q.push_back(lo + (hi - lo + Vector2d(2e-4, 2e-4)).cwiseProduct(Vector2d(uni(rng), uni(rng))) - Vector2d(1e-4, 1e-4));
+    q.push_back(lo + (hi - lo + Vector2d(2e-4, 2e-4)).cwiseProduct(Vector2d(uni(rng), uni(rng))) -
+                Vector2d(1e-4, 1e-4));
   for (int k = 0; k < 8; ++k)
   {
     const double a = 2 * M_PI * uni(rng);
@@ -272,7 +279,8 @@ std::pair<double, std::uint64_t> workPerQuery(const PathPoints& path, const Near
   for (int k = 0; k < samples; ++k)
   {
     NearestPathWork w;
-    index.distance(path.point(pick(rng)) + Vector2d(gauss(rng), gauss(rng)), std::numeric_limits<double>::infinity(), &w);
+    index.distance(path.point(pick(rng)) + Vector2d(gauss(rng), gauss(rng)), std::numeric_limits<double>::infinity(),
+                   &w);
     total += w.segments_tested;
     worst = std::max(worst, w.segments_tested);
   }
@@ -535,7 +543,7 @@ TEST(ContourErrorStats, KnownInputs)
   EXPECT_EQ(stats.max(), 150e-6);
   EXPECT_NEAR(stats.mean(), (5e-6 + 9.999e-6 + 10e-6 + 15e-6 + 25e-6 + 150e-6 + 19.9999e-6) / 8, 1e-12);
   EXPECT_DOUBLE_EQ(stats.quantileUpperBound(0.5), 11e-6);  // 4th smallest, 10 µm, is in [10, 11) µm
-  EXPECT_EQ(stats.quantileUpperBound(1.0), 150e-6);       // in the overflow: the max
+  EXPECT_EQ(stats.quantileUpperBound(1.0), 150e-6);        // in the overflow: the max
   EXPECT_DOUBLE_EQ(stats.quantileUpperBound(0.0), 1e-6);
   ContourErrorStats narrow;  // the bin's upper edge is capped at the max
   narrow.add(10.25e-6);

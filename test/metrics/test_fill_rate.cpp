@@ -93,7 +93,7 @@ TEST(FillRate, SameLineIsFull)
 
 TEST(FillRate, OffsetLosesOneRow)
 {
-  for (double offset : { 1.0, -1.0 })
+  for (double offset : {1.0, -1.0})
   {
     FillRateGrid g = grid100();
     commandedLine(g, 10.2, 60.8, 50.6);
@@ -105,7 +105,7 @@ TEST(FillRate, OffsetLosesOneRow)
   // Three lines one cell apart fill rows 50..53 (212 cells); the same three one cell higher reach
   // rows 51..54: row 50 is lost, 3/4 kept.
   FillRateGrid g = grid100();
-  for (double y : { 50.6, 51.6, 52.6 })
+  for (double y : {50.6, 51.6, 52.6})
   {
     commandedLine(g, 10.2, 60.8, y);
     actualLine(g, 10.2, 60.8, y + 1.0);
@@ -127,7 +127,7 @@ TEST(FillRate, OffsetLosesOneRow)
 // actual line still reaches row 51, whose top edge is 0.1 away.)
 TEST(FillRate, OffsetBeyondTwoDiametersIsEmpty)
 {
-  for (double offset : { 2.0, 2.05, 2.3, 2.5, 2.99, -2.0, -2.41 })
+  for (double offset : {2.0, 2.05, 2.3, 2.5, 2.99, -2.0, -2.41})
   {
     FillRateGrid g = grid100();
     commandedLine(g, 10.2, 60.8, 50.6);
@@ -169,11 +169,11 @@ TEST(FillRate, BreaksAndLaserOffDoNotJoin)
   EXPECT_EQ(g.cellsToFill(), 2u);
   g.addCommanded(cells(50.5, 10.5), false);  // laser off at the end: the segment to it does not mark
   EXPECT_EQ(g.cellsToFill(), 2u);
-  g.addCommanded(cells(70.5, 10.5), true);   // laser back on: the segment from the off point does not mark
+  g.addCommanded(cells(70.5, 10.5), true);  // laser back on: the segment from the off point does not mark
   EXPECT_EQ(g.cellsToFill(), 3u);
-  g.addCommanded(cells(72.5, 10.5), true);   // joined: columns 70..72
+  g.addCommanded(cells(72.5, 10.5), true);  // joined: columns 70..72
   EXPECT_EQ(g.cellsToFill(), 5u);
-  g.addActual(cells(30.5, 10.5), false);     // a laser-off point reaches nothing
+  g.addActual(cells(30.5, 10.5), false);  // a laser-off point reaches nothing
   EXPECT_EQ(g.cellsReached() + g.cellsReachedOutside(), 0u);
 }
 
@@ -184,7 +184,7 @@ TEST(FillRate, SerpentineFillsEveryInteriorCell)
 {
   const double side = 3e-3;
   const Vector2d lo(-0.5e-3, -0.5e-3), hi(3.5e-3, 3.5e-3);
-  for (double spacing_cells : { 0.9, 3.1 })
+  for (double spacing_cells : {0.9, 3.1})
   {
     FillRateGrid g(lo, hi, kD);
     const int lines = static_cast<int>(std::ceil(side / (spacing_cells * kD)));
@@ -245,11 +245,11 @@ TEST(FillRate, PointsOutsideAreCounted)
   g.addCommanded(cells(90.2, 50.6), true);
   g.addCommanded(cells(120.0, 50.6), true);
   EXPECT_EQ(g.commandedPointsOutside(), 1u);
-  EXPECT_EQ(g.cellsToFill(), 2u * 11u);  // columns 89..99 of rows 50, 51
+  EXPECT_EQ(g.cellsToFill(), 2u * 11u);     // columns 89..99 of rows 50, 51
   g.addCommanded(cells(99.6, 20.5), true);  // inside, but its disc crosses the edge (0.4 < 0.5)
   EXPECT_EQ(g.commandedPointsOutside(), 2u);
-  g.addCommanded(cells(99.4, 20.5), false);  // laser off: not counted
-  g.addActual(Vector2d(1e300, 0.0), true);   // absurd but finite: counted, reaches nothing
+  g.addCommanded(cells(99.4, 20.5), false);    // laser off: not counted
+  g.addActual(Vector2d(1e300, 0.0), true);     // absurd but finite: counted, reaches nothing
   g.addActual(Vector2d(-1.7e308, 0.0), true);  // its cell coordinate overflows: counted, not joined
   g.addActual(cells(50.5, 50.5), true);
   EXPECT_EQ(g.actualPointsOutside(), 2u);
@@ -332,7 +332,7 @@ bool segmentMeetsRect(const Vector2d& a, const Vector2d& b, double x0, double y0
     return false;
   const Vector2d d = b - a;
   int positive = 0, negative = 0;
-  for (const Vector2d& c : { Vector2d(x0, y0), Vector2d(x1, y0), Vector2d(x0, y1), Vector2d(x1, y1) })
+  for (const Vector2d& c : {Vector2d(x0, y0), Vector2d(x1, y0), Vector2d(x0, y1), Vector2d(x1, y1)})
   {
     const double side = d.x() * (c.y() - a.y()) - d.y() * (c.x() - a.x());
     positive += side > 0.0;
@@ -353,7 +353,7 @@ bool reaches(const Vector2d& a, const Vector2d& b, double x0, double y0, double 
   const double w = d / 2, x1 = x0 + d, y1 = y0 + d;
   if (segmentMeetsRect(a, b, x0 - w, y0, x1 + w, y1) || segmentMeetsRect(a, b, x0, y0 - w, x1, y1 + w))
     return true;
-  for (const Vector2d& c : { Vector2d(x0, y0), Vector2d(x1, y0), Vector2d(x0, y1), Vector2d(x1, y1) })
+  for (const Vector2d& c : {Vector2d(x0, y0), Vector2d(x1, y0), Vector2d(x0, y1), Vector2d(x1, y1)})
     if (distanceToSegment(c, a, b) < w)
       return true;
   return false;
@@ -377,13 +377,13 @@ std::vector<Event> randomPaths(std::mt19937& rng, const Vector2d& lo, const Vect
       c += step * Vector2d(std::cos(angle), std::sin(angle));
     }
     if (uni(rng) < 0.03)
-      events.push_back({ false, true, Vector2d::Zero(), false });
-    events.push_back({ false, false, c, uni(rng) < 0.8 });
+      events.push_back({false, true, Vector2d::Zero(), false});
+    events.push_back({false, false, c, uni(rng) < 0.8});
     // The actual spot: the commanded point plus up to ±1.5 d of error, its own laser state and breaks.
     if (uni(rng) < 0.03)
-      events.push_back({ true, true, Vector2d::Zero(), false });
+      events.push_back({true, true, Vector2d::Zero(), false});
     const Vector2d error = (Vector2d(uni(rng), uni(rng)) - Vector2d(0.5, 0.5)) * 3 * kD;
-    events.push_back({ true, false, c + error, uni(rng) < 0.8 });
+    events.push_back({true, false, c + error, uni(rng) < 0.8});
   }
   return events;
 }
@@ -414,7 +414,7 @@ TEST(FillRate, RandomPathsMatchBruteForce)
     // Reference: segments and points of each path by the joining rule, then every cell.
     const int width = 41, height = 30;
     std::vector<std::uint8_t> state(width * height, 0);
-    std::uint64_t outside[2] = { 0, 0 };
+    std::uint64_t outside[2] = {0, 0};
     for (int path = 0; path < 2; ++path)
     {
       bool have = false, last_on = false;
@@ -466,7 +466,7 @@ TEST(FillRate, RandomPathsMatchBruteForce)
     feed(interleaved, events, false, false);
     feed(in_turn, events, true, false);  // actual first, then commanded: counts kept right either way
     feed(in_turn, events, false, true);
-    for (const FillRateGrid* g : { &interleaved, &in_turn })
+    for (const FillRateGrid* g : {&interleaved, &in_turn})
     {
       for (int r = 0; r < height; ++r)
         for (int c = 0; c < width; ++c)

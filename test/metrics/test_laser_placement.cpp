@@ -13,8 +13,8 @@
 
 #include "fixtures/polyline_fixture.hpp"
 #include "scanhead/common/errors.hpp"
-#include "scanhead/metrics/laser_placement.hpp"
 #include "scanhead/job/generators/thesis_square_job.hpp"
+#include "scanhead/metrics/laser_placement.hpp"
 
 using scanhead::ConfigError;
 using scanhead::Job;
@@ -41,13 +41,13 @@ double mm(double x)
 Job squareAndHatch()
 {
   Job job;
-  job.polylines.push_back(line(PolylineType::Mark, 1.5, 200,
-                               { V(0, 0), V(mm(10), 0), V(mm(10), mm(10)), V(0, mm(10)), V(0, 0) }));
-  for (double y : { 2.0, 4.0, 6.0, 8.0 })
-    job.polylines.push_back(line(PolylineType::Mark, 1.0, 200, { V(mm(1), mm(y)), V(mm(9), mm(y)) }));
-  job.polylines.push_back(line(PolylineType::Mark, 1.0, 200, { V(mm(1), mm(1.5)), V(mm(3), mm(3.5)) }));
-  job.polylines.push_back(line(PolylineType::Jump, 6.0, 0, { V(mm(20), 0), V(mm(20), mm(10)) }));
-  auto dwell = line(PolylineType::Mark, 1.0, 200, { V(mm(15), mm(5)) });
+  job.polylines.push_back(
+      line(PolylineType::Mark, 1.5, 200, {V(0, 0), V(mm(10), 0), V(mm(10), mm(10)), V(0, mm(10)), V(0, 0)}));
+  for (double y : {2.0, 4.0, 6.0, 8.0})
+    job.polylines.push_back(line(PolylineType::Mark, 1.0, 200, {V(mm(1), mm(y)), V(mm(9), mm(y))}));
+  job.polylines.push_back(line(PolylineType::Mark, 1.0, 200, {V(mm(1), mm(1.5)), V(mm(3), mm(3.5))}));
+  job.polylines.push_back(line(PolylineType::Jump, 6.0, 0, {V(mm(20), 0), V(mm(20), mm(10))}));
+  auto dwell = line(PolylineType::Mark, 1.0, 200, {V(mm(15), mm(5))});
   dwell.dwell_s = 1e-3;
   job.polylines.push_back(dwell);
   return job;
@@ -117,17 +117,17 @@ TEST(LaserPlacement, KnownDistances)
     double d;
   };
   const std::vector<Probe> probes = {
-    { V(mm(5), 0), 0.0 },                                  // on the contour
-    { V(mm(5), -(kTol - eps)), kTol - eps },               // just inside the tolerance, below the edge
-    { V(mm(5), -(kTol + eps)), kTol + eps },               // just outside
-    { V(mm(10) + mm(0.3), mm(7)), mm(0.3) },               // right of the right edge
-    { V(-mm(0.04), -mm(0.04)), std::sqrt(2.0) * mm(0.04) },  // beyond the corner: 56.6 µm, though |dx|, |dy| < tol
-    { V(mm(9) + mm(0.045), mm(4)), mm(0.045) },            // past a hatch line's end
-    { V(mm(5), mm(3.3)), mm(0.7) },                        // between hatch lines 2 and 4 mm
-    { V(mm(2), mm(2.5)), 0.0 },                            // on the 45° line
-    { V(mm(2.5), mm(2.5)), mm(0.5) / std::sqrt(2.0) },     // beside the 45° line (0.354 mm)
-    { V(mm(15.03), mm(5)), mm(0.03) },                     // by the dwell point
-    { V(mm(5), mm(10) + mm(0.999)), mm(0.999) },           // just within the reach of one cell
+      {V(mm(5), 0), 0.0},                                    // on the contour
+      {V(mm(5), -(kTol - eps)), kTol - eps},                 // just inside the tolerance, below the edge
+      {V(mm(5), -(kTol + eps)), kTol + eps},                 // just outside
+      {V(mm(10) + mm(0.3), mm(7)), mm(0.3)},                 // right of the right edge
+      {V(-mm(0.04), -mm(0.04)), std::sqrt(2.0) * mm(0.04)},  // beyond the corner: 56.6 µm, though |dx|, |dy| < tol
+      {V(mm(9) + mm(0.045), mm(4)), mm(0.045)},              // past a hatch line's end
+      {V(mm(5), mm(3.3)), mm(0.7)},                          // between hatch lines 2 and 4 mm
+      {V(mm(2), mm(2.5)), 0.0},                              // on the 45° line
+      {V(mm(2.5), mm(2.5)), mm(0.5) / std::sqrt(2.0)},       // beside the 45° line (0.354 mm)
+      {V(mm(15.03), mm(5)), mm(0.03)},                       // by the dwell point
+      {V(mm(5), mm(10) + mm(0.999)), mm(0.999)},             // just within the reach of one cell
   };
   for (const Probe& q : probes)
   {
@@ -167,7 +167,7 @@ TEST(LaserPlacement, CountsEnergyAndChunks)
     }
   };
   // Along the contour edge at offsets of 0, 30, 49.9 µm (on), 50.1 µm, 0.2 mm (off), 60 samples each.
-  for (double offset : { 0.0, 30e-6, 49.9e-6, 50.1e-6, 0.2e-3 })
+  for (double offset : {0.0, 30e-6, 49.9e-6, 50.1e-6, 0.2e-3})
     for (int k = 0; k < 60; ++k)
       add(V(mm(0.5) + k * mm(0.15), -offset), 150.0 + k);
   // Along the jump at x = 20 mm with the laser on (5 mm from the dwell and more): off, beyond reach.
@@ -180,7 +180,7 @@ TEST(LaserPlacement, CountsEnergyAndChunks)
   add(V(-0.2, 0.1), 10.0);
 
   std::vector<LaserPlacementCounts> results;
-  for (std::size_t chunk : { 1u, 7u, 1000u })
+  for (std::size_t chunk : {1u, 7u, 1000u})
   {
     LaserPlacement lp(job, kTol);
     results.push_back(feed(lp, s, chunk, period));
@@ -216,10 +216,10 @@ TEST(LaserPlacement, GridEqualsBruteForce)
   {
     const V a(mm(-5 + 25 * u(rng)), mm(-5 + 20 * u(rng)));
     const double len = mm(0.05 + 6 * u(rng)), ang = 2 * M_PI * u(rng);
-    job.polylines.push_back(line(PolylineType::Mark, 1.0, 100, { a, a + len * V(std::cos(ang), std::sin(ang)) }));
+    job.polylines.push_back(line(PolylineType::Mark, 1.0, 100, {a, a + len * V(std::cos(ang), std::sin(ang))}));
   }
   for (int k = 0; k < 20; ++k)
-    job.polylines.push_back(line(PolylineType::Mark, 1.0, 100, { V(mm(-5 + 25 * u(rng)), mm(-5 + 20 * u(rng))) }));
+    job.polylines.push_back(line(PolylineType::Mark, 1.0, 100, {V(mm(-5 + 25 * u(rng)), mm(-5 + 20 * u(rng)))}));
   const double tol = 80e-6;
   LaserPlacement lp(job, tol);
   const double reach = lp.cellSide();
@@ -314,16 +314,16 @@ TEST(LaserPlacement, SmoothStreamEqualsBruteForce)
   for (int i = 0; i <= 300; ++i)
     add(V(mm(17.3) - i * 10e-6, mm(5.0004)));  // 2.3 mm → past the dwell point
   for (int i = 0; i <= 300; ++i)
-    add(V(mm(12.2) - i * 10e-6, mm(3.3)));     // 2.2 mm right of the edge → 0.8 mm inside
+    add(V(mm(12.2) - i * 10e-6, mm(3.3)));  // 2.2 mm right of the edge → 0.8 mm inside
   for (int i = 0; i <= 400; ++i)
-    add(V(mm(6.3), mm(0.7) + i * 10e-6));      // crosses the hatch line y = 2 mm and stops short of 4 mm
+    add(V(mm(6.3), mm(0.7) + i * 10e-6));  // crosses the hatch line y = 2 mm and stops short of 4 mm
   LaserPlacement lp(job, kTol);
   const LaserPlacementCounts c = feed(lp, s, 7, 1e-5);
   std::cout << "[smooth] " << s.size() << " samples, off path " << c.off_path_samples << " (brute " << off
             << "), max distance " << c.max_distance_m << " m\n";
   EXPECT_EQ(c.laser_on_samples, s.size());
   EXPECT_EQ(c.off_path_samples, off);
-  EXPECT_GT(off, s.size() / 10);       // the stream does cross the tolerance
+  EXPECT_GT(off, s.size() / 10);  // the stream does cross the tolerance
   EXPECT_LT(off, s.size() * 9 / 10);
   EXPECT_NEAR(c.off_path_energy_j, energy, 1e-12 * energy);  // summation order only
   EXPECT_NEAR(c.max_distance_m, max_d, 1e-15);
@@ -336,10 +336,10 @@ TEST(LaserPlacement, SmoothStreamEqualsBruteForce)
 TEST(LaserPlacement, BoundsAcrossCellBorder)
 {
   Job job;
-  job.polylines.push_back(line(PolylineType::Mark, 1.0, 100, { V(0, 0), V(mm(3), 0) }));
-  job.polylines.push_back(line(PolylineType::Mark, 1.0, 100, { V(mm(1.5), mm(1.2)) }));
+  job.polylines.push_back(line(PolylineType::Mark, 1.0, 100, {V(0, 0), V(mm(3), 0)}));
+  job.polylines.push_back(line(PolylineType::Mark, 1.0, 100, {V(mm(1.5), mm(1.2))}));
   LaserPlacement lp(job, kTol);
-  std::vector<SpotSample> s = { spot(V(0.1, 0.1), 100.0) };
+  std::vector<SpotSample> s = {spot(V(0.1, 0.1), 100.0)};
   for (int i = 0; i <= 60; ++i)
     s.push_back(spot(V(mm(1.5), mm(0.803) + i * 10e-6), 100.0));  // y 0.803 → 1.403 mm (no ties at 50 µm)
   std::uint64_t off = 0;
@@ -388,18 +388,18 @@ TEST(LaserPlacement, BadToleranceAndNoMarks)
   EXPECT_EQ(LaserPlacement(job, 2.5e-3).cellSide(), 2.5e-3);
 
   Job jumps_only;
-  jumps_only.polylines.push_back(line(PolylineType::Jump, 6.0, 0, { V(0, 0), V(mm(10), 0) }));
+  jumps_only.polylines.push_back(line(PolylineType::Jump, 6.0, 0, {V(0, 0), V(mm(10), 0)}));
   LaserPlacement lp(jumps_only, kTol);
   EXPECT_EQ(lp.distanceToMarks(V(mm(5), 0)), kInf);  // on the jump: not a mark
   SpotChunk c;
-  c.samples = { spot(V(mm(5), 0), 100.0), spot(V(0, 0), 0.0) };
+  c.samples = {spot(V(mm(5), 0), 100.0), spot(V(0, 0), 0.0)};
   lp.add(c);
   EXPECT_EQ(lp.counts().laser_on_samples, 1u);
   EXPECT_EQ(lp.counts().off_path_samples, 1u);
   EXPECT_EQ(lp.counts().max_distance_m, kInf);
 
   LaserPlacement ok(job, kTol);
-  c.samples = { spot(V(NAN, 0), 100.0) };
+  c.samples = {spot(V(NAN, 0), 100.0)};
   EXPECT_THROW(ok.add(c), scanhead::NumericalError);
 }
 
@@ -448,7 +448,8 @@ TEST(LaserPlacement, ThesisJobScale)
   const double build_s = std::chrono::duration<double>(t1 - t0).count();
   const double per_vertex_ns = 1e9 * std::chrono::duration<double>(t2 - t1).count() / double(c.samples.size());
   std::cout << "[thesis] " << segments << " mark segments, build " << build_s << " s, " << per_vertex_ns
-            << " ns per vertex (each a search), " << within << " of 200 within reach, worst |grid - brute| " << worst << " m\n";
+            << " ns per vertex (each a search), " << within << " of 200 within reach, worst |grid - brute| " << worst
+            << " m\n";
   EXPECT_GT(segments, 50000u);
   EXPECT_EQ(within, 200);
   EXPECT_LT(worst, 1e-15);

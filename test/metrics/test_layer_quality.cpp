@@ -7,8 +7,8 @@
 #include <random>
 #include <vector>
 
-#include "scanhead/metrics/layer_quality.hpp"
 #include "scanhead/common/segment_distance.hpp"
+#include "scanhead/metrics/layer_quality.hpp"
 
 using scanhead::ContourErrorStats;
 using scanhead::EnergyConfig;
@@ -42,11 +42,11 @@ Job squareJob()
 {
   Job job;
   job.name = "square";
-  job.polylines.push_back(line(PolylineType::Mark, PolylineRole::Contour, 1.0,
-                               { { 0, 0 }, { 2e-3, 0 }, { 2e-3, 2e-3 }, { 0, 2e-3 }, { 0, 0 } }));
-  job.polylines.push_back(line(PolylineType::Jump, PolylineRole::Unspecified, 4.0, { { 0, 0 }, { 0.2e-3, 0.2e-3 } }));
+  job.polylines.push_back(
+      line(PolylineType::Mark, PolylineRole::Contour, 1.0, {{0, 0}, {2e-3, 0}, {2e-3, 2e-3}, {0, 2e-3}, {0, 0}}));
+  job.polylines.push_back(line(PolylineType::Jump, PolylineRole::Unspecified, 4.0, {{0, 0}, {0.2e-3, 0.2e-3}}));
   job.polylines.push_back(line(PolylineType::Mark, PolylineRole::Hatch, 0.5,
-                               { { 0.2e-3, 0.2e-3 }, { 1.8e-3, 0.2e-3 }, { 1.8e-3, 0.3e-3 }, { 0.2e-3, 0.3e-3 } }));
+                               {{0.2e-3, 0.2e-3}, {1.8e-3, 0.2e-3}, {1.8e-3, 0.3e-3}, {0.2e-3, 0.3e-3}}));
   return job;
 }
 
@@ -86,7 +86,8 @@ LayerQualityReport run(const PathTimeline& timeline, const Job& job, const Strea
     SpotChunk c;
     c.first_index = from;
     c.period_s = kTs;
-    c.samples.assign(s.samples.begin() + static_cast<std::ptrdiff_t>(from), s.samples.begin() + static_cast<std::ptrdiff_t>(to));
+    c.samples.assign(s.samples.begin() + static_cast<std::ptrdiff_t>(from),
+                     s.samples.begin() + static_cast<std::ptrdiff_t>(to));
     q.process(c);
   };
   for (std::size_t start = 0; start < s.samples.size(); start += chunk)
@@ -192,9 +193,9 @@ TEST(LayerQuality, NearestPathMatchesBruteForceAndChunking)
   EXPECT_EQ(all.count(), brute.count());
   EXPECT_NEAR(all.max(), max_brute, 1e-8);
   EXPECT_NEAR(all.mean(), brute.mean(), 1e-8);
-  for (double limit : { 5e-6, 10e-6, 20e-6 })
+  for (double limit : {5e-6, 10e-6, 20e-6})
     EXPECT_NEAR(all.shareUnder(limit), brute.shareUnder(limit), 2.0 / static_cast<double>(brute.count()));
-  for (std::size_t chunk : { 1u, 7u })
+  for (std::size_t chunk : {1u, 7u})
   {
     const LayerQualityReport other = run(timeline, job, s, 13 * kTs, chunk);
     EXPECT_TRUE(other.same_instant.mark == r.same_instant.mark) << "chunk " << chunk;
@@ -213,7 +214,7 @@ TEST(LayerQuality, GapsAreCountedNotHidden)
   const PathTimeline timeline(job, 4.0);
   const Stream s = delayedStream(timeline, 10, Eigen::Vector2d::Zero());
   const EnergyConfig strict = sameInstantWindow(0.0);
-  for (const EnergyConfig& config : { EnergyConfig(), strict })
+  for (const EnergyConfig& config : {EnergyConfig(), strict})
   {
     const LayerQualityReport r = run(timeline, job, s, 10 * kTs, 1000, config, 300, 400);
     const auto n = static_cast<std::uint64_t>(std::llround(config.same_instant_window_s / kTs));
@@ -229,7 +230,8 @@ TEST(LayerQuality, FillRateAndTheNearestPathCap)
 {
   const Job job = squareJob();
   const PathTimeline timeline(job, 4.0);
-  const LayerQualityReport perfect = run(timeline, job, delayedStream(timeline, 5, Eigen::Vector2d::Zero()), 5 * kTs, 1000);
+  const LayerQualityReport perfect =
+      run(timeline, job, delayedStream(timeline, 5, Eigen::Vector2d::Zero()), 5 * kTs, 1000);
   EXPECT_GT(perfect.fill_cells_to_fill, 40u);
   EXPECT_DOUBLE_EQ(perfect.fill_rate, 1.0);
   const LayerQualityReport off =
@@ -238,7 +240,8 @@ TEST(LayerQuality, FillRateAndTheNearestPathCap)
   EXPECT_DOUBLE_EQ(off.fill_rate, 0.0);
   EnergyConfig capped;
   capped.contour_max_samples = 100;
-  const LayerQualityReport r = run(timeline, job, delayedStream(timeline, 5, Eigen::Vector2d::Zero()), 5 * kTs, 1000, capped);
+  const LayerQualityReport r =
+      run(timeline, job, delayedStream(timeline, 5, Eigen::Vector2d::Zero()), 5 * kTs, 1000, capped);
   EXPECT_FALSE(r.nearest_measured);
   EXPECT_EQ(r.nearest_path.mark.count(), 0u);
   EXPECT_GT(r.same_instant.mark.count(), 0u);

@@ -35,10 +35,9 @@ constexpr double kTs = 1e-5;
 /// (exact for piecewise polynomials of degree ≤ 9 whose kinks are breakpoints).
 double integrate(const std::function<double(double)>& f, double a, double b, std::vector<double> breaks, int panels)
 {
-  static const double x[5] = { -0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
-                               0.9061798459386640 };
-  static const double w[5] = { 0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
-                               0.2369268850561891 };
+  static const double x[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831, 0.9061798459386640};
+  static const double w[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
+                              0.2369268850561891};
   std::vector<double> nodes;
   for (int i = 0; i <= panels; ++i)
     nodes.push_back(a + (b - a) * i / panels);
@@ -66,7 +65,7 @@ double cascadeImpulse(double t, double t1, double t2)
 /// \brief e_c = 2·V·A(Tt/2)·|sin(γ/2)| with a(u) = ∫_0^u h and A(u) = ∫_0^u a, by quadrature.
 double numericalContourError(double v, double gamma, double t1, double t2)
 {
-  const std::vector<double> breaks = { std::min(t1, t2), std::max(t1, t2), t1 + t2 };
+  const std::vector<double> breaks = {std::min(t1, t2), std::max(t1, t2), t1 + t2};
   auto area = [&](double u) {
     return integrate([&](double t) { return cascadeImpulse(t, t1, t2); }, 0.0, u, breaks, 8);
   };
@@ -139,13 +138,13 @@ CornerPathStats bruteForce(const Corner& c, const std::vector<Eigen::Vector2d>& 
 /// direction γ, the corner rounded by a circular arc of radius R. Sample `mid` lies at the arc midpoint.
 std::vector<Eigen::Vector2d> roundedCorner(double v, double gamma, double r, int mid, int n)
 {
-  const double s = v * kTs;                        // arc length per sample
+  const double s = v * kTs;                          // arc length per sample
   const double tangent = r * std::tan(0.5 * gamma);  // corner to tangent points
   const double arc = r * gamma;
-  const Eigen::Vector2d t0(-tangent, 0.0);                            // arc start
-  const Eigen::Vector2d centre(-tangent, r);                           // left turn
+  const Eigen::Vector2d t0(-tangent, 0.0);    // arc start
+  const Eigen::Vector2d centre(-tangent, r);  // left turn
   const Eigen::Vector2d dir_out(std::cos(gamma), std::sin(gamma));
-  const Eigen::Vector2d t1 = tangent * dir_out;                        // arc end
+  const Eigen::Vector2d t1 = tangent * dir_out;  // arc end
   std::vector<Eigen::Vector2d> p;
   for (int k = 0; k < n; ++k)
   {
@@ -186,9 +185,9 @@ TEST(TheoreticalCorner, ClosedFormMatchesNumericalAreaFunction)
   {
     double t1, t2;
   };
-  for (const Case& c : { Case{ 260e-6, 125e-6 }, Case{ 200e-6, 200e-6 }, Case{ 300e-6, 10e-6 }, Case{ 100e-6, 250e-6 } })
+  for (const Case& c : {Case{260e-6, 125e-6}, Case{200e-6, 200e-6}, Case{300e-6, 10e-6}, Case{100e-6, 250e-6}})
   {
-    for (double gamma_deg : { 10.0, 53.13, 90.0, 108.43, 170.0 })
+    for (double gamma_deg : {10.0, 53.13, 90.0, 108.43, 170.0})
     {
       const double gamma = gamma_deg * M_PI / 180.0;
       const double numerical = numericalContourError(2.0, gamma, c.t1, c.t2);
@@ -208,8 +207,8 @@ TEST(TheoreticalCorner, ClosedFormMatchesNumericalAreaFunction)
 TEST(TheoreticalCorner, MinSpeedMatchesNumericalScan)
 {
   const double t1 = 260e-6, t2 = 125e-6, v = 2.0;
-  const std::vector<double> breaks = { t2, t1 };
-  for (double gamma_deg : { 30.0, 90.0, 135.0 })
+  const std::vector<double> breaks = {t2, t1};
+  for (double gamma_deg : {30.0, 90.0, 135.0})
   {
     const double g = gamma_deg * M_PI / 180.0;
     const Eigen::Vector2d vin(v, 0.0), vout(v * std::cos(g), v * std::sin(g));
@@ -228,13 +227,14 @@ TEST(TheoreticalCorner, MinSpeedMatchesNumericalScan)
 TEST(TheoreticalCorner, PublishedValues)
 {
   const CornerPathStats a = theoreticalCorner(2.0, 53.13 * M_PI / 180.0, 260e-6, 125e-6);
-  EXPECT_NEAR(a.min_speed_mps, 1.789, 0.5e-3);       // 1789 mm/s, quoted to 1 mm/s
-  EXPECT_NEAR(a.max_contour_error_m, 62e-6, 1e-6);   // 62 µm, quoted to 1 µm
+  EXPECT_NEAR(a.min_speed_mps, 1.789, 0.5e-3);      // 1789 mm/s, quoted to 1 mm/s
+  EXPECT_NEAR(a.max_contour_error_m, 62e-6, 1e-6);  // 62 µm, quoted to 1 µm
   const CornerPathStats b = theoreticalCorner(2.0, 108.43 * M_PI / 180.0, 260e-6, 125e-6);
   EXPECT_NEAR(b.min_speed_mps, 1.170, 1e-3);  // 1169.5 mm/s: the quoted angle 108.43° is itself rounded
   EXPECT_NEAR(b.max_contour_error_m, 114e-6, 1e-6);
   // T1 < T2 is the same cascade.
-  const CornerPathStats c = theoreticalCorner(2.0, 1.0, 125e-6, 260e-6), d = theoreticalCorner(2.0, 1.0, 260e-6, 125e-6);
+  const CornerPathStats c = theoreticalCorner(2.0, 1.0, 125e-6, 260e-6),
+                        d = theoreticalCorner(2.0, 1.0, 260e-6, 125e-6);
   EXPECT_EQ(c.max_contour_error_m, d.max_contour_error_m);
   EXPECT_EQ(theoreticalCorner(2.0, 1.0, 0.0, 0.0).max_contour_error_m, 0.0);
 }
@@ -259,14 +259,14 @@ TEST(CornerTracker, RoundedCornerAnalytic)
   c.time_s = mid * kTs;
   c.window_in_s = 3e-3;
   c.window_out_s = 3e-3;
-  const std::vector<CornerReport> rep = track({ c }, spots(sp, act), 0.0, lag * kTs, 1000);
+  const std::vector<CornerReport> rep = track({c}, spots(sp, act), 0.0, lag * kTs, 1000);
   ASSERT_EQ(rep.size(), 1u);
   const double e_ref = r / std::cos(0.5 * gamma) - r;
   const double s = v * kTs;
   const double v_ref = r * std::sin(s / r) / kTs;
   std::cout.precision(15);
-  std::cout << "[arc] contour error " << rep[0].setpoint.max_contour_error_m << " m vs " << e_ref
-            << "; min speed " << rep[0].setpoint.min_speed_mps << " vs " << v_ref << "\n";
+  std::cout << "[arc] contour error " << rep[0].setpoint.max_contour_error_m << " m vs " << e_ref << "; min speed "
+            << rep[0].setpoint.min_speed_mps << " vs " << v_ref << "\n";
   // 1e-12 m / 1e-12 relative: rounding of ~1e-4 m coordinates (1e-20) and of the arc formula.
   EXPECT_NEAR(rep[0].setpoint.max_contour_error_m, e_ref, 1e-12);
   EXPECT_NEAR(rep[0].setpoint.min_speed_mps, v_ref, 1e-12 * v);
@@ -294,7 +294,7 @@ TEST(CornerTracker, MinSpeedOfKnownProfile)
   c.time_s = tc;
   c.window_in_s = 2e-3;
   c.window_out_s = 2e-3;
-  const std::vector<CornerReport> rep = track({ c }, spots(p, p), 0.0, 0.0, 7);
+  const std::vector<CornerReport> rep = track({c}, spots(p, p), 0.0, 0.0, 7);
   const double ref = vmin + k * kTs * kTs / 3.0;
   EXPECT_NEAR(rep[0].setpoint.min_speed_mps, ref, 1e-12);
   EXPECT_NEAR(rep[0].setpoint.max_contour_error_m, 0.0, 1e-15);  // the path passes through the point
@@ -353,7 +353,7 @@ TEST(CornerTracker, MatchesBruteForceAndChunkInvariant)
     same(r1[i].setpoint.max_contour_error_m, bs.max_contour_error_m);
     same(r1[i].actual.min_speed_mps, ba.min_speed_mps);
     same(r1[i].actual.max_contour_error_m, ba.max_contour_error_m);
-    for (const std::vector<CornerReport>* other : { &r7, &r1000 })
+    for (const std::vector<CornerReport>* other : {&r7, &r1000})
     {
       const CornerReport& o = (*other)[i];
       // bitwise equality (NaN == NaN allowed)
@@ -379,7 +379,7 @@ TEST(CornerTracker, GapIsNotBridged)
   Corner c;
   c.time_s = 100 * kTs;
   c.window_in_s = c.window_out_s = 1.0;
-  CornerTracker tracker({ c }, 0.0, 0.0);
+  CornerTracker tracker({c}, 0.0, 0.0);
   tracker.process(chunked(a, 100, 0)[0]);
   tracker.process(chunked(b, 100, 150)[0]);  // samples 100..149 missing
   tracker.process(chunked(a, 100, 0)[0]);    // replayed old chunk: ignored
@@ -461,7 +461,7 @@ TEST(StreamCounter, ChunkInvariant)
   for (int k = 0; k < 3001; ++k)
     s[k].power_w = 37.0 + 0.1 * (k % 13);
   std::vector<double> energies;
-  for (std::size_t size : { 1u, 7u, 1000u })
+  for (std::size_t size : {1u, 7u, 1000u})
   {
     StreamCounter c;
     for (const SpotChunk& ch : chunked(s, size))

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "scanhead/nc/adaptive_fir.hpp"
 #include "scanhead/common/box_filter.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/job/path_timeline.hpp"
+#include "scanhead/nc/adaptive_fir.hpp"
 
 using scanhead::AdaptiveFir;
 using scanhead::FilterDurations;
@@ -77,17 +77,34 @@ double lastKernelEnd(const AdaptiveFir& fir)
 /// speed changes (kernels of different lengths overlap there).
 std::vector<Move> mixedMoves()
 {
-  return {
-      // 1 m/s: T1 = T2 = 115 µs
-      {0.0, 1.0, 2.0e-3}, {kPi, 1.0, 100e-6}, {0.0, 1.0, 100e-6}, {kPi / 2, 1.0, 150e-6}, {0.0, 1.0, 2.0e-3},
-      // 3 m/s: T1 = 300 µs, T2 = 133 µs
-      {0.0, 3.0, 2.0e-3}, {kPi, 3.0, 250e-6}, {0.0, 3.0, 250e-6}, {-kPi / 2, 3.0, 300e-6}, {0.0, 3.0, 2.0e-3},
-      {kPi / 2, 3.0, 60e-6}, {0.0, 3.0, 2.0e-3},
-      // 12 m/s: T1 = 1.2 ms, T2 = 133 µs
-      {kPi / 2, 12.0, 3.0e-3}, {-kPi / 2, 12.0, 1.2e-3}, {kPi / 2, 12.0, 2.0e-3}, {0.0, 12.0, 200e-6},
-      {kPi / 2, 12.0, 1.0e-3}, {kPi, 1.0, 20e-6}, {-kPi / 2, 12.0, 500e-6},
-      // back to slow: hold, 3 m/s, 1 m/s
-      {0.0, 0.0, 500e-6}, {kPi, 3.0, 1.5e-3}, {kPi / 2, 1.0, 3.0e-3}, {0.0, 1.0, 80e-6}, {kPi / 2, 1.0, 2.0e-3}};
+  return {// 1 m/s: T1 = T2 = 115 µs
+          {0.0, 1.0, 2.0e-3},
+          {kPi, 1.0, 100e-6},
+          {0.0, 1.0, 100e-6},
+          {kPi / 2, 1.0, 150e-6},
+          {0.0, 1.0, 2.0e-3},
+          // 3 m/s: T1 = 300 µs, T2 = 133 µs
+          {0.0, 3.0, 2.0e-3},
+          {kPi, 3.0, 250e-6},
+          {0.0, 3.0, 250e-6},
+          {-kPi / 2, 3.0, 300e-6},
+          {0.0, 3.0, 2.0e-3},
+          {kPi / 2, 3.0, 60e-6},
+          {0.0, 3.0, 2.0e-3},
+          // 12 m/s: T1 = 1.2 ms, T2 = 133 µs
+          {kPi / 2, 12.0, 3.0e-3},
+          {-kPi / 2, 12.0, 1.2e-3},
+          {kPi / 2, 12.0, 2.0e-3},
+          {0.0, 12.0, 200e-6},
+          {kPi / 2, 12.0, 1.0e-3},
+          {kPi, 1.0, 20e-6},
+          {-kPi / 2, 12.0, 500e-6},
+          // back to slow: hold, 3 m/s, 1 m/s
+          {0.0, 0.0, 500e-6},
+          {kPi, 3.0, 1.5e-3},
+          {kPi / 2, 1.0, 3.0e-3},
+          {0.0, 1.0, 80e-6},
+          {kPi / 2, 1.0, 2.0e-3}};
 }
 }  // namespace
 
@@ -165,7 +182,7 @@ TEST(AdaptiveFir, EqualDurationsAreTheBoxFilterChain)
   {
     const double t2 = 130e-6;
     PlaneLimits lim;
-    lim.max_accel_mps2 = 2.0 * v / t1;  // T1 = 2V/A
+    lim.max_accel_mps2 = 2.0 * v / t1;            // T1 = 2V/A
     lim.max_jerk_mps3 = lim.max_accel_mps2 / t2;  // T2 = A/J
     const std::vector<int> periods = {40, 55, 47, 61, 40, 90, 43, 52};
     const std::vector<double> angles = {0.0, kPi / 2, 0.4, 0.4 + kPi, 2.0, -1.0, -1.0 + kPi, 0.3};
@@ -240,7 +257,7 @@ TEST(AdaptiveFir, VelocityStepGivesRectangleThenTrapezoid)
   const AdaptiveFir fir(path, lim);
   ASSERT_EQ(fir.knots().size(), 3u);
   const AdaptiveFir::Knot& knot = fir.knots()[1];
-  EXPECT_EQ(knot.local_speed_mps, 3.0);  // the 3 m/s side is within ±W
+  EXPECT_EQ(knot.local_speed_mps, 3.0);        // the 3 m/s side is within ±W
   const double t1 = 6.0 / lim.max_accel_mps2;  // Δ = 2·3: acceleration-limited
   const double t2 = lim.max_accel_mps2 / lim.max_jerk_mps3;
   EXPECT_NEAR(knot.durations.t1_s, t1, 1e-18);
@@ -410,8 +427,7 @@ TEST(AdaptiveFir, ContinuousAndEndsAtRest)
   const PathTimeline path = pathOf({-5e-3, 2e-3}, mixedMoves());
   const AdaptiveFir fir(path, lim);
   AdaptiveFir::Cursor c;
-  const double first_start =
-      fir.delay() - 0.5 * (fir.knots()[0].durations.t1_s + fir.knots()[0].durations.t2_s);
+  const double first_start = fir.delay() - 0.5 * (fir.knots()[0].durations.t1_s + fir.knots()[0].durations.t2_s);
   for (const double t : {-1.0, -1e-9, 0.0, first_start - 1e-9})
   {
     const PlaneState s = fir.filtered(t, c);
@@ -424,7 +440,7 @@ TEST(AdaptiveFir, ContinuousAndEndsAtRest)
   EXPECT_EQ(rest, lastKernelEnd(fir));
   const PlaneState at_rest = fir.filtered(rest, c);
   EXPECT_LT((at_rest.position - path.endPoint()).norm(), 1e-15);  // exactly the end point but
-  EXPECT_LT(at_rest.velocity.norm(), 1e-12);                       // for rounding of τ at h
+  EXPECT_LT(at_rest.velocity.norm(), 1e-12);                      // for rounding of τ at h
   for (const double t : {rest + 1e-9, rest + 1e-3, rest + 10.0})
   {
     const PlaneState s = fir.filtered(t, c);
@@ -573,4 +589,3 @@ TEST(AdaptiveFir, DenseZigzagSettles)
     max_a = std::max(max_a, fir.filtered(t, c).acceleration.norm());
   EXPECT_LE(max_a, lim.max_accel_mps2 * (1.0 + 1e-9));
 }
-

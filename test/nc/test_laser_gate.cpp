@@ -8,8 +8,8 @@
 
 #include "fixtures/polyline_fixture.hpp"
 #include "scanhead/common/errors.hpp"
-#include "scanhead/nc/laser_gate.hpp"
 #include "scanhead/job/path_timeline.hpp"
+#include "scanhead/nc/laser_gate.hpp"
 
 using scanhead::Job;
 using scanhead::LaserGate;

@@ -11,9 +11,9 @@
 
 #include "fixtures/polyline_fixture.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/job/path_timeline.hpp"
 #include "scanhead/nc/nc_interpolator.hpp"
 #include "scanhead/optics/optical_model.hpp"
-#include "scanhead/job/path_timeline.hpp"
 
 #ifndef SCANHEAD_SOURCE_DIR
 #error "SCANHEAD_SOURCE_DIR must be defined (the package root, for urdf/scanhead.urdf)"
@@ -154,10 +154,11 @@ TEST(NcInterpolator, CornerSpeedAndContourErrorMatchClosedForms)
     const double t1 = c.t1_s;
     const double t2 = c.t2_s;
     const double e_theory = c.speed_mps * (t2 * t2 + 3 * t1 * t1) / (12 * t1) * std::abs(std::sin(gamma / 2));
-    std::printf("[ corner ] %-34s gamma %7.3f deg: Vmin %8.2f mm/s (theory %8.2f, %+.3f %%), "
-                "e_c %7.3f um (theory %7.3f, %+.3f %%)\n",
-                c.name, gamma * 180 / M_PI, v_min * 1e3, v_theory * 1e3, 100 * (v_min / v_theory - 1), e_c * 1e6,
-                e_theory * 1e6, 100 * (e_c / e_theory - 1));
+    std::printf(
+        "[ corner ] %-34s gamma %7.3f deg: Vmin %8.2f mm/s (theory %8.2f, %+.3f %%), "
+        "e_c %7.3f um (theory %7.3f, %+.3f %%)\n",
+        c.name, gamma * 180 / M_PI, v_min * 1e3, v_theory * 1e3, 100 * (v_min / v_theory - 1), e_c * 1e6,
+        e_theory * 1e6, 100 * (e_c / e_theory - 1));
     EXPECT_NEAR(v_min, v_theory, 0.01 * v_theory) << c.name;
     EXPECT_NEAR(e_c, e_theory, 0.02 * e_theory) << c.name;
     // far from the corner the spot moves at the programmed speed (0.1 %: IGT nonlinearity only)
@@ -219,13 +220,15 @@ TEST(NcInterpolator, VelocityAndAccelerationAreConsistentDerivatives)
   {
     const SetpointSample& a = s.setpoint[n - 1];
     const SetpointSample& b = s.setpoint[n];
-    worst_pos = std::max(worst_pos, (b.position - a.position - 0.5 * ts * (a.velocity + b.velocity)).cwiseAbs().maxCoeff());
-    worst_vel = std::max(worst_vel,
-                         (b.velocity - a.velocity - 0.5 * ts * (a.acceleration + b.acceleration)).cwiseAbs().maxCoeff());
+    worst_pos =
+        std::max(worst_pos, (b.position - a.position - 0.5 * ts * (a.velocity + b.velocity)).cwiseAbs().maxCoeff());
+    worst_vel = std::max(
+        worst_vel, (b.velocity - a.velocity - 0.5 * ts * (a.acceleration + b.acceleration)).cwiseAbs().maxCoeff());
   }
-  std::printf("[ deriv  ] max |a| %.1f rad/s^2: position residual %.3g rad (tolerance %.3g), velocity residual "
-              "%.3g rad/s (tolerance %.3g)\n",
-              a_max, worst_pos, 2.0 * ts * ts * ts * jerk_max / 12, worst_vel, 0.5 * ts * ts * a_max / config.fir_t2_s);
+  std::printf(
+      "[ deriv  ] max |a| %.1f rad/s^2: position residual %.3g rad (tolerance %.3g), velocity residual "
+      "%.3g rad/s (tolerance %.3g)\n",
+      a_max, worst_pos, 2.0 * ts * ts * ts * jerk_max / 12, worst_vel, 0.5 * ts * ts * a_max / config.fir_t2_s);
   EXPECT_LT(worst_pos, 2.0 * ts * ts * ts * jerk_max / 12);
   EXPECT_LT(worst_vel, 0.5 * ts * ts * a_max / config.fir_t2_s);
 }

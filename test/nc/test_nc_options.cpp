@@ -9,11 +9,11 @@
 #include "fixtures/chain_fixture.hpp"
 #include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/chain/config_io.hpp"
-#include "scanhead/optics/correction_table.hpp"
 #include "scanhead/common/errors.hpp"
-#include "scanhead/job/job_files.hpp"
 #include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/job/job_files.hpp"
 #include "scanhead/nc/nc_interpolator.hpp"
+#include "scanhead/optics/correction_table.hpp"
 
 using namespace scanhead;
 using scanhead::test_support::ChainRun;
@@ -52,7 +52,7 @@ Job straightLine(double speed_mps)
   Polyline line;
   line.speed_mps = speed_mps;
   line.power_w = 100.0;
-  line.points = { Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.01, 0.0) };
+  line.points = {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.01, 0.0)};
   job.polylines.push_back(line);
   return job;
 }
@@ -66,7 +66,7 @@ Job straightLine(double speed_mps)
 // differs from a pure joint-space step.
 TEST(NcOptions, FiltersShapeAStepIntoRectangleAndTrapezoid)
 {
-  ChainConfig config = loadChainConfig(kConfig, { "nc.debug=true" });
+  ChainConfig config = loadChainConfig(kConfig, {"nc.debug=true"});
   const OpticalModel optics = loadOpticalModel(config.optics);
   const NcStreams s = runNc(config, optics, straightLine(1.0), 1000);
   const double ts = config.nc.period_s, t1 = config.nc.fir_t1_s, t2 = config.nc.fir_t2_s;
@@ -95,9 +95,10 @@ TEST(NcOptions, TableIgtStaysWithinItsReportedError)
   ChainConfig exact = loadChainConfig(kConfig, {});
   const OpticalModel optics = loadOpticalModel(exact.optics);
   const NcStreams reference = runNc(exact, optics, job, 1000);
-  for (const char* interpolation : { "bilinear", "bicubic" })
+  for (const char* interpolation : {"bilinear", "bicubic"})
   {
-    const ChainConfig table = loadChainConfig(kConfig, { "nc.igt.mode=table", std::string("nc.igt.table_interpolation=") + interpolation });
+    const ChainConfig table =
+        loadChainConfig(kConfig, {"nc.igt.mode=table", std::string("nc.igt.table_interpolation=") + interpolation});
     const CorrectionTable built = CorrectionTable::build(optics, 65, table.optics.field_half_width_m);
     const TableErrorReport report =
         measureTableError(built, parseTableInterpolation(interpolation, "test"), optics, 129);
@@ -105,7 +106,8 @@ TEST(NcOptions, TableIgtStaysWithinItsReportedError)
     ASSERT_EQ(s.setpoint.size(), reference.setpoint.size());
     double worst = 0.0;
     for (std::size_t n = 0; n < s.setpoint.size(); n += 7)
-      worst = std::max(worst, (optics.spot(s.setpoint[n].position) - optics.spot(reference.setpoint[n].position)).norm());
+      worst =
+          std::max(worst, (optics.spot(s.setpoint[n].position) - optics.spot(reference.setpoint[n].position)).norm());
     std::printf("table %s: NC setpoint differs from Newton by <= %.3f um; table report max %.3f um\n", interpolation,
                 worst * 1e6, report.max_error_m * 1e6);
     // The filters average the table's error: never more than its max (+1 nm for the filter rounding).
@@ -121,10 +123,10 @@ TEST(NcOptions, TableIgtStaysWithinItsReportedError)
 TEST(NcOptions, LaserOnDelayCoversTheJumpSettling)
 {
   const std::string job = "squares:recipe=1,rows=1,columns=2,spacing=0.002";
-  const ChainRun short_delay = runJob(job, { "recipe.preset=custom", "recipe.laser_on_delay_s=100e-6",
-                                              "recipe.laser_off_delay_s=107e-6", "recipe.hatch_speed_mps=1.0",
-                                              "recipe.contour_speed_mps=1.5" });
-  const ChainRun thesis = runJob(job, { "recipe.preset=thesis1" });
+  const ChainRun short_delay =
+      runJob(job, {"recipe.preset=custom", "recipe.laser_on_delay_s=100e-6", "recipe.laser_off_delay_s=107e-6",
+                   "recipe.hatch_speed_mps=1.0", "recipe.contour_speed_mps=1.5"});
+  const ChainRun thesis = runJob(job, {"recipe.preset=thesis1"});
   std::printf("laser on delay 100 us: %llu early samples (%.4g J); THESIS 395 us: %llu early, %llu late\n",
               static_cast<unsigned long long>(short_delay.metrics.laser_early_samples),
               short_delay.metrics.laser_misplaced_energy_j,
@@ -146,7 +148,7 @@ TEST(NcOptions, SkywritingRemovesTheCornerPeak)
 {
   const std::string job = "corner:speed=1,angle=90,leg=0.004";
   const ChainRun plain = runJob(job, {});
-  const ChainRun sky = runJob(job, { "nc.skywriting.enabled=true" });
+  const ChainRun sky = runJob(job, {"nc.skywriting.enabled=true"});
   std::printf("90 deg corner at 1 m/s: peak/straight %.4f without skywriting, %.4f with\n",
               plain.metrics.track_peak_to_median, sky.metrics.track_peak_to_median);
   ASSERT_TRUE(plain.metrics.track_measured);
@@ -163,16 +165,17 @@ TEST(NcOptions, SkywritingRemovesTheCornerPeak)
 // straight-track level, without a dip deeper than 5 %.
 TEST(NcOptions, PowerModulationEvensTheCornerEnergy)
 {
-  for (const char* speed : { "1", "1.5" })
+  for (const char* speed : {"1", "1.5"})
   {
     const std::string job = std::string("corner:speed=") + speed + ",angle=90,leg=0.004";
     const ChainRun constant = runJob(job, {});
-    const ChainRun filtered = runJob(job, { "nc.power_mode=speed" });
-    const ChainRun predicted = runJob(job, { "nc.power_mode=predicted" });
-    std::printf("90 deg corner at %s m/s: peak/straight %.4f constant power, %.4f power ~ filtered speed, "
-                "%.4f power ~ predicted actual speed (lowest %.4f)\n",
-                speed, constant.metrics.track_peak_to_median, filtered.metrics.track_peak_to_median,
-                predicted.metrics.track_peak_to_median, predicted.metrics.track_min_to_median);
+    const ChainRun filtered = runJob(job, {"nc.power_mode=speed"});
+    const ChainRun predicted = runJob(job, {"nc.power_mode=predicted"});
+    std::printf(
+        "90 deg corner at %s m/s: peak/straight %.4f constant power, %.4f power ~ filtered speed, "
+        "%.4f power ~ predicted actual speed (lowest %.4f)\n",
+        speed, constant.metrics.track_peak_to_median, filtered.metrics.track_peak_to_median,
+        predicted.metrics.track_peak_to_median, predicted.metrics.track_min_to_median);
     EXPECT_GT(constant.metrics.track_peak_to_median, 1.3) << speed;
     EXPECT_LT(filtered.metrics.track_peak_to_median, 1.08) << speed;
     EXPECT_LT(predicted.metrics.track_peak_to_median, 1.05) << speed;
@@ -185,18 +188,20 @@ TEST(NcOptions, PowerModulationEvensTheCornerEnergy)
 TEST(NcOptions, AdaptiveFiltersGainTimeWithinTheLimits)
 {
   const std::string job = "squares:recipe=3,rows=1,columns=3,spacing=0.002";
-  const ChainRun fixed = runJob(job, { "recipe.preset=thesis3", "nc.cap_speeds=true" });
-  const ChainRun adaptive = runJob(job, { "recipe.preset=thesis3", "nc.filter_mode=adaptive" });
+  const ChainRun fixed = runJob(job, {"recipe.preset=thesis3", "nc.cap_speeds=true"});
+  const ChainRun adaptive = runJob(job, {"recipe.preset=thesis3", "nc.filter_mode=adaptive"});
   double fixed_error = 0.0, adaptive_error = 0.0;
   for (const CornerReport& c : fixed.metrics.corners)
     fixed_error = std::max(fixed_error, c.actual.max_contour_error_m);
   for (const CornerReport& c : adaptive.metrics.corners)
     adaptive_error = std::max(adaptive_error, c.actual.max_contour_error_m);
-  std::printf("THESIS recipe 3, 3 squares: fixed (capped at %.3f m/s) %.4f s, adaptive %.4f s (%.2f %% less); "
-              "worst corner contour error %.1f um fixed, %.1f um adaptive; adaptive max accel x%.3f, jerk x%.3f of the limits\n",
-              fixed.nc.speed_cap_mps, fixed.job_time_s, adaptive.job_time_s,
-              100.0 * (1.0 - adaptive.job_time_s / fixed.job_time_s), fixed_error * 1e6, adaptive_error * 1e6,
-              adaptive.nc.max_accel_radps2.maxCoeff() / 3.3e4, adaptive.nc.max_jerk_radps3.maxCoeff() / 5.29e8);
+  std::printf(
+      "THESIS recipe 3, 3 squares: fixed (capped at %.3f m/s) %.4f s, adaptive %.4f s (%.2f %% less); "
+      "worst corner contour error %.1f um fixed, %.1f um adaptive; adaptive max accel x%.3f, jerk x%.3f of the "
+      "limits\n",
+      fixed.nc.speed_cap_mps, fixed.job_time_s, adaptive.job_time_s,
+      100.0 * (1.0 - adaptive.job_time_s / fixed.job_time_s), fixed_error * 1e6, adaptive_error * 1e6,
+      adaptive.nc.max_accel_radps2.maxCoeff() / 3.3e4, adaptive.nc.max_jerk_radps3.maxCoeff() / 5.29e8);
   EXPECT_LT(adaptive.job_time_s, fixed.job_time_s);
   EXPECT_GT(fixed.nc.program.capped_polylines, 0u);
   EXPECT_EQ(fixed.nc.samples_over_accel, 0u);
@@ -213,7 +218,7 @@ TEST(NcOptions, QuantisationRoundsToTheLinkWord)
 {
   const Job job = straightLine(2.0);
   const ChainConfig plain_config = loadChainConfig(kConfig, {});
-  const ChainConfig quant_config = loadChainConfig(kConfig, { "nc.quantisation_bits=16" });
+  const ChainConfig quant_config = loadChainConfig(kConfig, {"nc.quantisation_bits=16"});
   const OpticalModel optics = loadOpticalModel(plain_config.optics);
   const NcStreams plain = runNc(plain_config, optics, job, 1000);
   const NcStreams quant = runNc(quant_config, optics, job, 1000);
@@ -237,15 +242,15 @@ TEST(NcOptions, QuantisationRoundsToTheLinkWord)
 TEST(NcOptions, EveryOptionIsChunkInvariant)
 {
   const Job job = loadJob("squares:recipe=3,rows=1,columns=1,spacing=0.003", CamConfig{});
-  for (const char* mode : { "fixed", "adaptive" })
+  for (const char* mode : {"fixed", "adaptive"})
   {
     const ChainConfig config = loadChainConfig(
-        kConfig, { std::string("nc.filter_mode=") + mode, "nc.igt.mode=table", "nc.skywriting.enabled=true",
-                   "nc.polygon_delay_s=50e-6", "nc.mark_delay_s=100e-6", "nc.jump_delay_s=200e-6",
-                   "nc.power_mode=speed", "nc.quantisation_bits=18", "nc.debug=true", "recipe.preset=thesis3" });
+        kConfig, {std::string("nc.filter_mode=") + mode, "nc.igt.mode=table", "nc.skywriting.enabled=true",
+                  "nc.polygon_delay_s=50e-6", "nc.mark_delay_s=100e-6", "nc.jump_delay_s=200e-6", "nc.power_mode=speed",
+                  "nc.quantisation_bits=18", "nc.debug=true", "recipe.preset=thesis3"});
     const OpticalModel optics = loadOpticalModel(config.optics);
     const NcStreams a = runNc(config, optics, job, 1000);
-    for (std::size_t chunk : { std::size_t(1), std::size_t(7) })
+    for (std::size_t chunk : {std::size_t(1), std::size_t(7)})
     {
       const NcStreams b = runNc(config, optics, job, chunk);
       ASSERT_EQ(a.setpoint.size(), b.setpoint.size());
@@ -265,18 +270,22 @@ TEST(NcOptions, EveryOptionIsChunkInvariant)
 TEST(NcOptions, BadOptionsNameTheirKey)
 {
   const std::vector<std::pair<std::string, std::string>> cases = {
-    { "nc.filter_mode=smooth", "nc.filter_mode" },     { "nc.igt.mode=lookup", "nc.igt.mode" },
-    { "nc.igt.table_nodes=1", "nc.igt.table_nodes" },  { "nc.mark_delay_s=-1e-6", "nc.mark_delay_s" },
-    { "nc.power_floor=1.5", "nc.power_floor" },        { "nc.quantisation_bits=12", "nc.quantisation_bits" },
-    { "nc.skywriting.run_in_s=-1", "nc.skywriting.run_in_s" }, { "recipe.preset=fast", "recipe.preset" },
-    { "nc.max_joint_accel_radps2=0", "nc.max_joint_accel_radps2" },
-    { "recipe.hatch_speed_mps=-1", "recipe.hatch_speed_mps" },
+      {"nc.filter_mode=smooth", "nc.filter_mode"},
+      {"nc.igt.mode=lookup", "nc.igt.mode"},
+      {"nc.igt.table_nodes=1", "nc.igt.table_nodes"},
+      {"nc.mark_delay_s=-1e-6", "nc.mark_delay_s"},
+      {"nc.power_floor=1.5", "nc.power_floor"},
+      {"nc.quantisation_bits=12", "nc.quantisation_bits"},
+      {"nc.skywriting.run_in_s=-1", "nc.skywriting.run_in_s"},
+      {"recipe.preset=fast", "recipe.preset"},
+      {"nc.max_joint_accel_radps2=0", "nc.max_joint_accel_radps2"},
+      {"recipe.hatch_speed_mps=-1", "recipe.hatch_speed_mps"},
   };
   for (const auto& c : cases)
   {
     try
     {
-      loadChainConfig(kConfig, { c.first });
+      loadChainConfig(kConfig, {c.first});
       ADD_FAILURE() << c.first << " accepted";
     }
     catch (const ConfigError& e)

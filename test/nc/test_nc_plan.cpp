@@ -24,8 +24,9 @@ Job squareJob(const ChainConfig& config)
 
 ChainConfig timingConfig()
 {
-  return loadChainConfig(test_support::kConfig, {"recipe.preset=thesis1", "nc.skywriting.enabled=true", "nc.mark_delay_s=100e-6",
-                                    "nc.jump_delay_s=250e-6", "nc.polygon_delay_s=40e-6", "nc.polygon_delay_mode=angle"});
+  return loadChainConfig(test_support::kConfig,
+                         {"recipe.preset=thesis1", "nc.skywriting.enabled=true", "nc.mark_delay_s=100e-6",
+                          "nc.jump_delay_s=250e-6", "nc.polygon_delay_s=40e-6", "nc.polygon_delay_mode=angle"});
 }
 }  // namespace
 

@@ -34,8 +34,8 @@ Job delayJob()
 {
   Job job;
   job.name = "delays";
-  job.polylines.push_back(line(PolylineType::Mark, 1.2, 150.0,
-                               {{0, 0}, {2e-3, 0}, {2e-3, 1.5e-3}, {0.5e-3, 3e-3}, {0.5e-3, 3.7e-3}}));
+  job.polylines.push_back(
+      line(PolylineType::Mark, 1.2, 150.0, {{0, 0}, {2e-3, 0}, {2e-3, 1.5e-3}, {0.5e-3, 3e-3}, {0.5e-3, 3.7e-3}}));
   job.polylines.push_back(line(PolylineType::Jump, 5.0, 0.0, {{0.5e-3, 3.7e-3}, {5e-3, 5e-3}}));
   job.polylines.push_back(line(PolylineType::Mark, 0.9, 100.0, {{6e-3, 5e-3}, {7e-3, 5e-3}}));
   scanhead::Polyline spot = line(PolylineType::Mark, 0.0, 80.0, {{8e-3, 5e-3}});

@@ -10,6 +10,7 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <Eigen/Eigenvalues>
 #pragma GCC diagnostic pop
+#include <yaml-cpp/yaml.h>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -19,12 +20,11 @@
 #include <map>
 #include <string>
 #include <vector>
-#include <yaml-cpp/yaml.h>
 
 #include "fixtures/optics_fixture.hpp"
+#include "scanhead/common/errors.hpp"
 #include "scanhead/optics/calibration.hpp"
 #include "scanhead/optics/correction_table.hpp"
-#include "scanhead/common/errors.hpp"
 #include "scanhead/optics/influence_map.hpp"
 #include "scanhead/optics/optical_defects.hpp"
 
@@ -37,12 +37,15 @@ namespace scanhead
 namespace
 {
 const std::string& kUrdfPath = test_support::kNominalUrdfPath;
-constexpr int kGrid = 15;            // measurement grid per axis (225 spots)
-constexpr double kField_m = 0.175;   // field half width [m] (OpticsConfig default)
-constexpr int kTableNodes = 65;      // correction table nodes per axis (SPEC §2.2)
-constexpr int kProbes = 41;          // table error probes per axis
+constexpr int kGrid = 15;           // measurement grid per axis (225 spots)
+constexpr double kField_m = 0.175;  // field half width [m] (OpticsConfig default)
+constexpr int kTableNodes = 65;     // correction table nodes per axis (SPEC §2.2)
+constexpr int kProbes = 41;         // table error probes per axis
 
-const OpticalGeometry& nominal() { return test_support::nominalGeometry(); }
+const OpticalGeometry& nominal()
+{
+  return test_support::nominalGeometry();
+}
 
 const OpticsConfig& config()
 {
@@ -90,7 +93,7 @@ TEST(Calibration, NoiseIsSplitmix64ThenBoxMuller)
   // Published splitmix64 outputs for seed 0 (Vigna's reference splitmix64.c): 0xe220a8397b1dcdaf,
   // 0x6e789e6aa1b965f4. The first spot's noise is then Box–Muller of u = (top 53 bits + 1)·2⁻⁵³.
   const OpticalModel machine(nominal(), config());
-  const std::vector<Eigen::Vector2d> one = { Eigen::Vector2d(0.01, -0.02) };
+  const std::vector<Eigen::Vector2d> one = {Eigen::Vector2d(0.01, -0.02)};
   const double noise = 1e-6;
   const std::vector<SpotMeasurement> m = simulateMeasurements(machine, one, noise, 0);
   ASSERT_EQ(m.size(), 1u);
@@ -152,13 +155,13 @@ TEST(Calibration, NamedNullCombinationsLeaveEverySpotUnchanged)
   const Eigen::VectorXd base = spots(DefectSet());
   const double t = 0.1;  // mm | mrad: the defect size of OPT table 2
   const std::map<std::string, std::map<std::string, double>> nulls = {
-    { "x translation", { { "work_plane.x", t }, { "axis_x.y", t } } },
-    { "y translation", { { "work_plane.y", t }, { "source.y", t }, { "axis_x.z", -t }, { "axis_y.z", t } } },
-    { "z translation", { { "work_plane.z", t }, { "source.z", t }, { "axis_y.y", -t } } },
-    { "galvo X offset", { { "axis_x.a", t }, { "mirror_x.b", -t } } },
-    { "galvo Y offset", { { "axis_y.a", t }, { "mirror_y.b", -t } } },
-    { "window a difference", { { "window_1.a", t }, { "window_2.a", -t } } },
-    { "window b difference", { { "window_1.b", t }, { "window_2.b", -t } } },
+      {"x translation", {{"work_plane.x", t}, {"axis_x.y", t}}},
+      {"y translation", {{"work_plane.y", t}, {"source.y", t}, {"axis_x.z", -t}, {"axis_y.z", t}}},
+      {"z translation", {{"work_plane.z", t}, {"source.z", t}, {"axis_y.y", -t}}},
+      {"galvo X offset", {{"axis_x.a", t}, {"mirror_x.b", -t}}},
+      {"galvo Y offset", {{"axis_y.a", t}, {"mirror_y.b", -t}}},
+      {"window a difference", {{"window_1.a", t}, {"window_2.a", -t}}},
+      {"window b difference", {{"window_1.b", t}, {"window_2.b", -t}}},
   };
   for (const auto& [name, values] : nulls)
   {
@@ -168,7 +171,7 @@ TEST(Calibration, NamedNullCombinationsLeaveEverySpotUnchanged)
     EXPECT_LT(change, 1e-10) << name;
     for (const auto& [label, value] : values)
     {
-      const double alone = (spots(setOf({ { label, value } })) - base).cwiseAbs().maxCoeff();
+      const double alone = (spots(setOf({{label, value}})) - base).cwiseAbs().maxCoeff();
       EXPECT_GT(alone, 1e-7) << name << ": " << label << " alone";
     }
   }
@@ -199,9 +202,9 @@ TEST(Calibration, NoiseFreeOptTable2IsFitAndItsIdentifiablePartRecovered)
   EXPECT_LT(result.singular_values[20], 1e-9 * s0);  // measured ≤ 2e-11: exact null directions
   ASSERT_EQ(result.null_space.size(), kDefectCount - 16);
   // the three translations (calibration.hpp), whose rows the echelon form gives exactly
-  for (const char* expected : { "0.71 work_plane.x + 0.71 axis_x.y",
-                                "0.50 work_plane.y + 0.50 source.y - 0.50 axis_x.z + 0.50 axis_y.z",
-                                "0.58 work_plane.z + 0.58 source.z - 0.58 axis_y.y" })
+  for (const char* expected :
+       {"0.71 work_plane.x + 0.71 axis_x.y", "0.50 work_plane.y + 0.50 source.y - 0.50 axis_x.z + 0.50 axis_y.z",
+        "0.58 work_plane.z + 0.58 source.z - 0.58 axis_y.y"})
   {
     EXPECT_NE(std::find(result.null_space.begin(), result.null_space.end(), expected), result.null_space.end())
         << expected;
@@ -313,7 +316,7 @@ TEST(Calibration, StdDevMatchesTheMonteCarloSpread)
       sum2[i] += last.estimate.values[i] * last.estimate.values[i];
     }
   }
-  const std::vector<std::string> alone = { "mirror_x.z", "mirror_x.a", "mirror_y.z", "mirror_y.a" };
+  const std::vector<std::string> alone = {"mirror_x.z", "mirror_x.a", "mirror_y.z", "mirror_y.a"};
   for (std::size_t i = 0; i < kDefectCount; ++i)
   {
     const std::string label = defectLabel(i);
@@ -381,7 +384,7 @@ TEST(Calibration, RankFollowsTheToleranceAndIterationsAreBounded)
 {
   const OpticalModel machine(applyDefects(nominal(), optTable2DefectSet()), config());
   const std::vector<SpotMeasurement> m = simulateMeasurements(machine, angles(), 1e-6, 2);
-  for (double tolerance : { 3e-4, 1e-6 })
+  for (double tolerance : {3e-4, 1e-6})
   {
     CalibrationOptions options;
     options.rank_tolerance = tolerance;

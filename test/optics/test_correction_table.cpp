@@ -10,8 +10,8 @@
 #include <fstream>
 #include <string>
 
-#include "scanhead/optics/correction_table.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/optics/correction_table.hpp"
 #include "scanhead/optics/optical_defects.hpp"
 
 #ifndef SCANHEAD_SOURCE_DIR
@@ -82,7 +82,7 @@ TEST(CorrectionTable, ExactAtNodes)
     {
       const Eigen::Vector2d x(-kHalfWidth + i * step, -kHalfWidth + j * step);
       const Eigen::Vector2d cold = optics.inverse(x);  // independent solve from (0, 0)
-      for (TableInterpolation scheme : { TableInterpolation::Bilinear, TableInterpolation::Bicubic })
+      for (TableInterpolation scheme : {TableInterpolation::Bilinear, TableInterpolation::Bicubic})
         worst_rad = std::max(worst_rad, (table.joints(x, scheme) - cold).cwiseAbs().maxCoeff());
     }
   }
@@ -107,7 +107,8 @@ TEST(CorrectionTable, BilinearErrorAt65Nodes)
 
   const OpticalModel defective_optics = optTable2Model();
   const CorrectionTable opt_table2_table = CorrectionTable::build(defective_optics, kNodes, kHalfWidth);
-  const TableErrorReport defective = measureTableError(opt_table2_table, TableInterpolation::Bilinear, defective_optics, 257);
+  const TableErrorReport defective =
+      measureTableError(opt_table2_table, TableInterpolation::Bilinear, defective_optics, 257);
   EXPECT_NEAR(defective.max_error_m, 4.19084e-6, 4.19084e-6 * 1e-4);
   EXPECT_NEAR(defective.rms_error_m, 1.79610e-6, 1.79610e-6 * 1e-4);
 }
@@ -116,7 +117,7 @@ TEST(CorrectionTable, BicubicBelowOneMicron)
 {
   // Requirement: < 1 µm at 65 x 65 over the 350 mm field. Measured 0.0462 nm max, 0.0196 nm RMS
   // (nominal and OPT table 2 defects alike); the second bound (0.1 nm) guards that level.
-  for (const OpticalModel& optics : { nominalModel(), optTable2Model() })
+  for (const OpticalModel& optics : {nominalModel(), optTable2Model()})
   {
     const CorrectionTable table = CorrectionTable::build(optics, kNodes, kHalfWidth);
     const TableErrorReport report = measureTableError(table, TableInterpolation::Bicubic, optics, 257);
@@ -151,15 +152,15 @@ TEST(CorrectionTable, SmallGrids)
   // n = 2 and 3 exercise the one-sided cross derivatives; still exact at the nodes (Newton
   // tolerance 1e-12 m -> < 1e-11 m at the plane) and with sane errors inside.
   const OpticalModel optics = nominalModel();
-  for (int n : { 2, 3 })
+  for (int n : {2, 3})
   {
     const CorrectionTable table = CorrectionTable::build(optics, n, 0.01);
-    for (double x : { -0.01, 0.01 })
+    for (double x : {-0.01, 0.01})
     {
-      for (double y : { -0.01, 0.01 })
+      for (double y : {-0.01, 0.01})
       {
         const Eigen::Vector2d spot(x, y);
-        for (TableInterpolation scheme : { TableInterpolation::Bilinear, TableInterpolation::Bicubic })
+        for (TableInterpolation scheme : {TableInterpolation::Bilinear, TableInterpolation::Bicubic})
           EXPECT_LT((optics.spot(table.joints(spot, scheme)) - spot).norm(), 1e-11);
       }
     }
@@ -183,7 +184,7 @@ TEST(CorrectionTable, SaveLoadRoundTripIsBitIdentical)
     for (int i = 0; i <= 100; ++i)
     {
       const Eigen::Vector2d x(-kHalfWidth + i * 0.0035, -kHalfWidth + j * 0.0035 * 0.999);
-      for (TableInterpolation scheme : { TableInterpolation::Bilinear, TableInterpolation::Bicubic })
+      for (TableInterpolation scheme : {TableInterpolation::Bilinear, TableInterpolation::Bicubic})
       {
         EXPECT_TRUE(sameBits(loaded.joints(x, scheme), table.joints(x, scheme))) << x.transpose();
         ++compared;
@@ -230,22 +231,22 @@ TEST(CorrectionTable, LoadRejectsMalformedFiles)
     std::string what;
   };
   const Case cases[] = {
-    { "empty", "", ":1:", "empty file" },
-    { "header", replaceLine(1, "scanhead table"), ":1:", "first line must be" },
-    { "version", replaceLine(1, "# scanhead correction table v2"), ":1:", "unsupported version 'v2'" },
-    { "missing_nodes", replaceLine(4, ""), ":6:", "missing key 'nodes'" },
-    { "unknown_key", replaceLine(5, "half_width 0.01"), ":5:", "unknown key 'half_width'" },
-    { "bad_nodes", replaceLine(4, "nodes 2.5"), ":4:", "nodes must be an integer" },
-    { "negative_width", replaceLine(5, "half_width_m -1"), ":5:", "half_width_m must be > 0" },
-    { "columns", replaceLine(6, "columns i j q_x q_y"), ":6:", "columns must be" },
-    { "non_numeric", replaceLine(8, "1 0 0.1 abc" + tail7.substr(tail7.find(' ', tail7.find(' ', 1) + 1))), ":8:",
-      "is not a number ('abc')" },
-    { "nan", replaceLine(9, "0 1 nan" + tail7.substr(tail7.find(' ', 1))), ":9:", "not finite ('nan')" },
-    { "order", replaceLine(8, "0 1" + tail7), ":8:", "out of order" },
-    { "fields", replaceLine(7, "0 0 1 2 3"), ":7:", "needs 10 fields (got 5)" },
-    { "too_few", replaceLine(10, ""), ":9:", "after 3 node lines, expected 2 × 2 = 4" },
-    { "too_many", good + "0 2" + tail7 + "\n", ":11:", "more node lines than nodes² = 4" },
-    { "key_after_nodes", good + "nodes 2\n", ":11:", "after the node lines" },
+      {"empty", "", ":1:", "empty file"},
+      {"header", replaceLine(1, "scanhead table"), ":1:", "first line must be"},
+      {"version", replaceLine(1, "# scanhead correction table v2"), ":1:", "unsupported version 'v2'"},
+      {"missing_nodes", replaceLine(4, ""), ":6:", "missing key 'nodes'"},
+      {"unknown_key", replaceLine(5, "half_width 0.01"), ":5:", "unknown key 'half_width'"},
+      {"bad_nodes", replaceLine(4, "nodes 2.5"), ":4:", "nodes must be an integer"},
+      {"negative_width", replaceLine(5, "half_width_m -1"), ":5:", "half_width_m must be > 0"},
+      {"columns", replaceLine(6, "columns i j q_x q_y"), ":6:", "columns must be"},
+      {"non_numeric", replaceLine(8, "1 0 0.1 abc" + tail7.substr(tail7.find(' ', tail7.find(' ', 1) + 1))),
+       ":8:", "is not a number ('abc')"},
+      {"nan", replaceLine(9, "0 1 nan" + tail7.substr(tail7.find(' ', 1))), ":9:", "not finite ('nan')"},
+      {"order", replaceLine(8, "0 1" + tail7), ":8:", "out of order"},
+      {"fields", replaceLine(7, "0 0 1 2 3"), ":7:", "needs 10 fields (got 5)"},
+      {"too_few", replaceLine(10, ""), ":9:", "after 3 node lines, expected 2 × 2 = 4"},
+      {"too_many", good + "0 2" + tail7 + "\n", ":11:", "more node lines than nodes² = 4"},
+      {"key_after_nodes", good + "nodes 2\n", ":11:", "after the node lines"},
   };
   for (const Case& c : cases)
   {
@@ -274,7 +275,7 @@ TEST(CorrectionTable, LoadRejectsMalformedFiles)
 TEST(CorrectionTable, OutsidePointsThrow)
 {
   const CorrectionTable table = CorrectionTable::build(nominalModel(), 9, 0.05);
-  for (TableInterpolation scheme : { TableInterpolation::Bilinear, TableInterpolation::Bicubic })
+  for (TableInterpolation scheme : {TableInterpolation::Bilinear, TableInterpolation::Bicubic})
   {
     try
     {
@@ -283,7 +284,8 @@ TEST(CorrectionTable, OutsidePointsThrow)
     }
     catch (const NumericalError& e)
     {
-      EXPECT_NE(std::string(e.what()).find("point (0, 50.1) mm lies outside the table [-50, 50]"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("point (0, 50.1) mm lies outside the table [-50, 50]"), std::string::npos)
+          << e.what();
     }
     EXPECT_THROW(table.joints(Eigen::Vector2d(-0.0501, 0.0), scheme), NumericalError);
     EXPECT_THROW(table.joints(Eigen::Vector2d(std::nan(""), 0.0), scheme), NumericalError);

@@ -3,13 +3,13 @@
 /// observations, known exact cases, superposition for the OPT table 2 machine, the writers.
 #include <gtest/gtest.h>
 
+#include <yaml-cpp/yaml.h>
 #include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
-#include <yaml-cpp/yaml.h>
 
 #include "fixtures/optics_fixture.hpp"
 #include "scanhead/common/errors.hpp"
@@ -25,7 +25,10 @@ namespace
 {
 const std::string& kUrdfPath = test_support::kNominalUrdfPath;
 
-const OpticalGeometry& nominal() { return test_support::nominalGeometry(); }
+const OpticalGeometry& nominal()
+{
+  return test_support::nominalGeometry();
+}
 
 const std::vector<InfluenceRow>& table()
 {
@@ -98,7 +101,7 @@ TEST(InfluenceMap, ZeroDefectGivesZeroInfluence)
   DefectSet zero;
   zero.values[defectIndex("mirror_x.a")] = 0.0;
   zero.values[defectIndex("source.y")] = -0.0;
-  for (const DefectSet& set : { DefectSet(), zero })
+  for (const DefectSet& set : {DefectSet(), zero})
   {
     const DefectField field = defectField(nominal(), OpticsConfig(), set, 11);
     ASSERT_EQ(field.displacement_m.size(), 121u);
@@ -178,7 +181,7 @@ TEST(InfluenceMap, WindowTiltsWeighAboutAThousandTimesLess)
   // ε = 1e-3 (relative error ~ε²).
   const OpticsConfig c;
   const double expected = c.window_thickness_m * 1e-3 * (1.0 - c.n_gas / c.n_window);
-  for (const char* label : { "window_1.a", "window_1.b", "window_2.a", "window_2.b" })
+  for (const char* label : {"window_1.a", "window_1.b", "window_2.a", "window_2.b"})
   {
     EXPECT_NEAR(row(label).shift_m.norm(), expected, 1e-11) << label;
   }
@@ -232,7 +235,7 @@ TEST(InfluenceMap, HeadDefectsWeighMoreThanWorkPlaneDefects)
   // non-linear part. 1e-12 m: rounding.
   EXPECT_GE(head_trans_min, plane_trans_max - 1e-12);
   EXPECT_GT(head_trans_mean, 1.1 * plane_trans_max);
-  for (const char* label : { "work_plane.x", "work_plane.y" })
+  for (const char* label : {"work_plane.x", "work_plane.y"})
   {
     EXPECT_NEAR(row(label).max_m, 1e-3, 1e-12) << label;
     EXPECT_LT(row(label).nonlinear_m, 1e-12) << label;

@@ -62,15 +62,14 @@ TEST(NominalClosedForm, ClosedFormMatchesTraceOverTheJointRange)
   const OpticsConfig config;
   const OpticalModel model(g, config);
   // The grid covers the field: the field's corners need less than the joint range.
-  for (const Eigen::Vector2d& corner : { Eigen::Vector2d(1, 1), Eigen::Vector2d(1, -1), Eigen::Vector2d(-1, 1),
-                                         Eigen::Vector2d(-1, -1) })
+  for (const Eigen::Vector2d& corner :
+       {Eigen::Vector2d(1, 1), Eigen::Vector2d(1, -1), Eigen::Vector2d(-1, 1), Eigen::Vector2d(-1, -1)})
   {
     const Eigen::Vector2d q = model.inverse(corner * config.field_half_width_m);
     EXPECT_LT(q.cwiseAbs().maxCoeff(), g.joint_upper_rad);
   }
   const double worst = maxDifference(g, config, 41);
-  std::cout << "[ measured ] max |closed form - trace| over 41 x 41 angles in the joint range: " << worst
-            << " m\n";
+  std::cout << "[ measured ] max |closed form - trace| over 41 x 41 angles in the joint range: " << worst << " m\n";
   EXPECT_LT(worst, kExact_m);
   // Not trivially zero: the spot does move over ±0.25 m there.
   EXPECT_GT(closedFormSpot(g, config, Eigen::Vector2d(g.joint_upper_rad, 0)).x(), 0.2);
@@ -114,17 +113,16 @@ struct OptParameters
 
 Eigen::Vector2d optEquations(const OptParameters& p, double tx, double ty)
 {
-  const double K1 = (p.e_m + p.Z_ay0 * std::cos(p.A_ay0 + ty) - p.Y_ay0 * std::sin(p.A_ay0 + ty)) /
-                    std::cos(p.A_ay0 - p.B_ax0 + ty);
+  const double K1 =
+      (p.e_m + p.Z_ay0 * std::cos(p.A_ay0 + ty) - p.Y_ay0 * std::sin(p.A_ay0 + ty)) / std::cos(p.A_ay0 - p.B_ax0 + ty);
   const double K2 = p.Z_p + 2 * p.e_v - K1 * std::cos(p.B_ax0);
-  const double K3 = std::sqrt(std::pow(std::cos(2 * tx), 2) * std::pow(std::cos(2 * ty), 2) - 1 +
-                              p.n2 * p.n2 / (p.n1 * p.n1));
+  const double K3 =
+      std::sqrt(std::pow(std::cos(2 * tx), 2) * std::pow(std::cos(2 * ty), 2) - 1 + p.n2 * p.n2 / (p.n1 * p.n1));
   const double x = -p.X_p + p.X_ax0 +
                    (p.e_m - p.Y_ax0 * std::cos(-p.A_ax0 + tx) * std::sin(p.B_ax0)) / std::sin(-p.A_ax0 + tx) -
-                   K2 * std::tan(2 * tx) / std::cos(2 * ty) - K1 * std::tan(2 * tx) +
-                   2 * p.e_v * std::sin(2 * tx) / K3;
-  const double y = -p.Y_p - K1 * std::sin(p.B_ax0) - K2 * std::tan(2 * ty) +
-                   2 * p.e_v * std::cos(2 * tx) * std::sin(2 * ty) / K3;
+                   K2 * std::tan(2 * tx) / std::cos(2 * ty) - K1 * std::tan(2 * tx) + 2 * p.e_v * std::sin(2 * tx) / K3;
+  const double y =
+      -p.Y_p - K1 * std::sin(p.B_ax0) - K2 * std::tan(2 * ty) + 2 * p.e_v * std::cos(2 * tx) * std::sin(2 * ty) / K3;
   return Eigen::Vector2d(x, y);
 }
 

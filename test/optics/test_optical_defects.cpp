@@ -38,17 +38,20 @@ std::string readFile(const std::string& path)
   return text.str();
 }
 
-const OpticalGeometry& nominal() { return test_support::nominalGeometry(); }
+const OpticalGeometry& nominal()
+{
+  return test_support::nominalGeometry();
+}
 
 std::array<const Eigen::Isometry3d*, 8> poses(const OpticalGeometry& g)
 {
-  return { &g.source, &g.mount_x, &g.mirror_x, &g.mount_y, &g.mirror_y, &g.window_1, &g.window_2, &g.work_plane };
+  return {&g.source, &g.mount_x, &g.mirror_x, &g.mount_y, &g.mirror_y, &g.window_1, &g.window_2, &g.work_plane};
 }
 
 Eigen::Isometry3d& pose(OpticalGeometry& g, std::size_t element)
 {
-  Eigen::Isometry3d* const p[8] = { &g.source,   &g.mount_x,  &g.mirror_x, &g.mount_y,
-                                    &g.mirror_y, &g.window_1, &g.window_2, &g.work_plane };
+  Eigen::Isometry3d* const p[8] = {&g.source,   &g.mount_x,  &g.mirror_x, &g.mount_y,
+                                   &g.mirror_y, &g.window_1, &g.window_2, &g.work_plane};
   return *p[element];
 }
 
@@ -102,10 +105,11 @@ TEST(OpticalDefects, ComponentTableIsOptTable1InOrder)
 {
   // OPT table 1 / SPEC §4, row by row.
   const char* const expected[kDefectCount] = {
-    "source.y",   "source.z",   "source.b",   "source.c",   "axis_x.y",   "axis_x.z",     "axis_x.a",     "axis_x.b",
-    "axis_x.c",   "mirror_x.z", "mirror_x.a", "mirror_x.b", "axis_y.y",   "axis_y.z",     "axis_y.a",     "axis_y.b",
-    "axis_y.c",   "mirror_y.z", "mirror_y.a", "mirror_y.b", "window_1.a", "window_1.b",   "window_2.a",   "window_2.b",
-    "work_plane.x", "work_plane.y", "work_plane.z", "work_plane.a", "work_plane.b", "work_plane.c",
+      "source.y",     "source.z",     "source.b",     "source.c",     "axis_x.y",     "axis_x.z",
+      "axis_x.a",     "axis_x.b",     "axis_x.c",     "mirror_x.z",   "mirror_x.a",   "mirror_x.b",
+      "axis_y.y",     "axis_y.z",     "axis_y.a",     "axis_y.b",     "axis_y.c",     "mirror_y.z",
+      "mirror_y.a",   "mirror_y.b",   "window_1.a",   "window_1.b",   "window_2.a",   "window_2.b",
+      "work_plane.x", "work_plane.y", "work_plane.z", "work_plane.a", "work_plane.b", "work_plane.c",
   };
   ASSERT_EQ(defectComponents().size(), 30u);
   int rotations = 0;
@@ -118,8 +122,8 @@ TEST(OpticalDefects, ComponentTableIsOptTable1InOrder)
     rotations += c.rotation() ? 1 : 0;
   }
   EXPECT_EQ(rotations, 19);  // 11 positions (mm), 19 orientations (mrad)
-  const std::array<std::string, 8> joints = { "laser_source", "galvo_x_mount", "mirror_x", "galvo_y_mount",
-                                              "mirror_y",     "window_1",      "window_2", "work_plane" };
+  const std::array<std::string, 8> joints = {"laser_source", "galvo_x_mount", "mirror_x", "galvo_y_mount",
+                                             "mirror_y",     "window_1",      "window_2", "work_plane"};
   EXPECT_EQ(defectJointElements(), joints);
   EXPECT_THROW(defectLabel(30), std::out_of_range);
 }
@@ -137,16 +141,16 @@ TEST(OpticalDefects, MappingPutsEachComponentOnItsJointAxis)
     int axis;
   };
   const Row rows[kDefectCount] = {
-    { "source.y", 0, 't', 1 },     { "source.z", 0, 't', 2 },     { "source.b", 0, 'r', 1 },
-    { "source.c", 0, 'r', 2 },     { "axis_x.y", 1, 't', 0 },     { "axis_x.z", 1, 't', 1 },
-    { "axis_x.a", 1, 'r', 2 },     { "axis_x.b", 1, 'r', 0 },     { "axis_x.c", 1, 'r', 1 },
-    { "mirror_x.z", 2, 't', 0 },   { "mirror_x.a", 2, 'r', 1 },   { "mirror_x.b", 2, 'r', 2 },
-    { "axis_y.y", 3, 't', 0 },     { "axis_y.z", 3, 't', 1 },     { "axis_y.a", 3, 'r', 2 },
-    { "axis_y.b", 3, 'r', 0 },     { "axis_y.c", 3, 'r', 1 },     { "mirror_y.z", 4, 't', 0 },
-    { "mirror_y.a", 4, 'r', 1 },   { "mirror_y.b", 4, 'r', 2 },   { "window_1.a", 5, 'r', 0 },
-    { "window_1.b", 5, 'r', 1 },   { "window_2.a", 6, 'r', 0 },   { "window_2.b", 6, 'r', 1 },
-    { "work_plane.x", 7, 't', 0 }, { "work_plane.y", 7, 't', 1 }, { "work_plane.z", 7, 't', 2 },
-    { "work_plane.a", 7, 'r', 0 }, { "work_plane.b", 7, 'r', 1 }, { "work_plane.c", 7, 'r', 2 },
+      {"source.y", 0, 't', 1},     {"source.z", 0, 't', 2},     {"source.b", 0, 'r', 1},
+      {"source.c", 0, 'r', 2},     {"axis_x.y", 1, 't', 0},     {"axis_x.z", 1, 't', 1},
+      {"axis_x.a", 1, 'r', 2},     {"axis_x.b", 1, 'r', 0},     {"axis_x.c", 1, 'r', 1},
+      {"mirror_x.z", 2, 't', 0},   {"mirror_x.a", 2, 'r', 1},   {"mirror_x.b", 2, 'r', 2},
+      {"axis_y.y", 3, 't', 0},     {"axis_y.z", 3, 't', 1},     {"axis_y.a", 3, 'r', 2},
+      {"axis_y.b", 3, 'r', 0},     {"axis_y.c", 3, 'r', 1},     {"mirror_y.z", 4, 't', 0},
+      {"mirror_y.a", 4, 'r', 1},   {"mirror_y.b", 4, 'r', 2},   {"window_1.a", 5, 'r', 0},
+      {"window_1.b", 5, 'r', 1},   {"window_2.a", 6, 'r', 0},   {"window_2.b", 6, 'r', 1},
+      {"work_plane.x", 7, 't', 0}, {"work_plane.y", 7, 't', 1}, {"work_plane.z", 7, 't', 2},
+      {"work_plane.a", 7, 'r', 0}, {"work_plane.b", 7, 'r', 1}, {"work_plane.c", 7, 'r', 2},
   };
   for (const Row& row : rows)
   {
@@ -184,11 +188,12 @@ TEST(OpticalDefects, MappingGivesEachComponentItsOptRole)
   {
     const DefectComponent& c = defectComponents()[k];
     const std::string element = c.element;
-    const std::size_t joint =
-        std::find(defectJointElements().begin(), defectJointElements().end(),
-                  element == "source" ? "laser_source" : element == "axis_x" ? "galvo_x_mount"
-                                                       : element == "axis_y" ? "galvo_y_mount" : element) -
-        defectJointElements().begin();
+    const std::size_t joint = std::find(defectJointElements().begin(), defectJointElements().end(),
+                                        element == "source"   ? "laser_source"
+                                        : element == "axis_x" ? "galvo_x_mount"
+                                        : element == "axis_y" ? "galvo_y_mount"
+                                                              : element) -
+                              defectJointElements().begin();
     ASSERT_LT(joint, 8u) << element;
     const Eigen::Isometry3d p0 = frame(nominal(), joint);
     const Eigen::Isometry3d p1 = frame(applyDefects(nominal(), single(k, 1.0)), joint);
@@ -196,10 +201,10 @@ TEST(OpticalDefects, MappingGivesEachComponentItsOptRole)
     // The OPT role axes of this element, in scanhead_base.
     const bool source = element == "source";
     const bool axis = element.rfind("axis_", 0) == 0;
-    const Eigen::Vector3d beam = p0.linear().col(0);    // source: beam direction (OPT x)
-    const Eigen::Vector3d rotor = p0.linear().col(2);   // galvo mount: rotation axis (OPT x)
-    const Eigen::Vector3d normal = element.rfind("mirror_", 0) == 0 ? p0.linear().col(0)  // mirrors: normal (OPT z)
-                                                                     : p0.linear().col(2);  // windows, plane
+    const Eigen::Vector3d beam = p0.linear().col(0);   // source: beam direction (OPT x)
+    const Eigen::Vector3d rotor = p0.linear().col(2);  // galvo mount: rotation axis (OPT x)
+    const Eigen::Vector3d normal = element.rfind("mirror_", 0) == 0 ? p0.linear().col(0)   // mirrors: normal (OPT z)
+                                                                    : p0.linear().col(2);  // windows, plane
     const std::string what = defectLabel(k);
     if (!c.rotation())
     {
@@ -338,14 +343,14 @@ TEST(OpticalDefects, OptTable2FileAndCodeAreTheTable)
 {
   // SPEC §4 / OPT table 2 transcribed again here, by label (independent of the code's order).
   const std::map<std::string, double> table = {
-    { "source.y", -0.063 },     { "source.z", -0.085 },     { "source.b", -0.069 },   { "source.c", -0.065 },
-    { "axis_x.y", -0.040 },     { "axis_x.z", -0.023 },     { "axis_x.a", 0.030 },    { "axis_x.b", 0.063 },
-    { "axis_x.c", 0.053 },      { "mirror_x.z", -0.025 },   { "mirror_x.a", -0.062 }, { "mirror_x.b", 0.029 },
-    { "axis_y.y", -0.099 },     { "axis_y.z", -0.043 },     { "axis_y.a", -0.028 },   { "axis_y.b", 0.018 },
-    { "axis_y.c", -0.035 },     { "mirror_y.z", 0.000 },    { "mirror_y.a", -0.075 }, { "mirror_y.b", 0.047 },
-    { "window_1.a", -0.069 },   { "window_1.b", -0.013 },   { "window_2.a", 0.066 },  { "window_2.b", -0.028 },
-    { "work_plane.x", -0.085 }, { "work_plane.y", 0.011 },  { "work_plane.z", -0.045 },
-    { "work_plane.a", -0.074 }, { "work_plane.b", 0.040 },  { "work_plane.c", -0.003 },
+      {"source.y", -0.063},     {"source.z", -0.085},     {"source.b", -0.069},     {"source.c", -0.065},
+      {"axis_x.y", -0.040},     {"axis_x.z", -0.023},     {"axis_x.a", 0.030},      {"axis_x.b", 0.063},
+      {"axis_x.c", 0.053},      {"mirror_x.z", -0.025},   {"mirror_x.a", -0.062},   {"mirror_x.b", 0.029},
+      {"axis_y.y", -0.099},     {"axis_y.z", -0.043},     {"axis_y.a", -0.028},     {"axis_y.b", 0.018},
+      {"axis_y.c", -0.035},     {"mirror_y.z", 0.000},    {"mirror_y.a", -0.075},   {"mirror_y.b", 0.047},
+      {"window_1.a", -0.069},   {"window_1.b", -0.013},   {"window_2.a", 0.066},    {"window_2.b", -0.028},
+      {"work_plane.x", -0.085}, {"work_plane.y", 0.011},  {"work_plane.z", -0.045}, {"work_plane.a", -0.074},
+      {"work_plane.b", 0.040},  {"work_plane.c", -0.003},
   };
   ASSERT_EQ(table.size(), 30u);
   const DefectSet code = optTable2DefectSet();
@@ -365,7 +370,7 @@ TEST(OpticalDefects, OptTable2FileAndCodeAreTheTable)
 
 TEST(OpticalDefects, YamlRoundTripIsExact)
 {
-  for (const DefectSet& set : { optTable2DefectSet(), randomDefectSet(7), randomDefectSet(99, 2.5, 1e-7), DefectSet() })
+  for (const DefectSet& set : {optTable2DefectSet(), randomDefectSet(7), randomDefectSet(99, 2.5, 1e-7), DefectSet()})
   {
     const std::string path = tempPath("round_trip.yaml");
     std::ofstream(path) << defectSetToYaml(set);
@@ -390,7 +395,10 @@ TEST(OpticalDefects, LoadOmittedIsZeroAndNameDefaultsToStem)
   for (std::size_t k = 0; k < kDefectCount; ++k)
   {
     const std::string label = defectLabel(k);
-    const double expected = label == "mirror_x.b" ? 0.25 : label == "mirror_x.a" ? -1e-2 : label == "work_plane.z" ? 3.0 : 0.0;
+    const double expected = label == "mirror_x.b"     ? 0.25
+                            : label == "mirror_x.a"   ? -1e-2
+                            : label == "work_plane.z" ? 3.0
+                                                      : 0.0;
     EXPECT_EQ(set.values[k], expected) << label;
   }
   std::ofstream(path) << "";
@@ -407,22 +415,23 @@ TEST(OpticalDefects, LoadErrorsNameFileLineAndKey)
     std::vector<std::string> expected;  // ":N:" means path + ":N:"
   };
   const Case cases[] = {
-    { "element", "source: {y: 0.01}\nlaser_source: {y: 0}\n",
-      { ":2:", "unknown element 'laser_source'",
-        "source, axis_x, mirror_x, axis_y, mirror_y, window_1, window_2, work_plane" } },
-    { "component", "mirror_x:\n  z: 0.01\n  x: 0.02\n", { ":3:", "unknown component 'mirror_x.x'", "z, a, b" } },
-    { "component_flow", "source: {y: 0.1, a: 0.2}\n", { ":1:", "'source.a'", "y, z, b, c" } },
-    { "window", "window_1: {c: 0.1}\n", { ":1:", "'window_1.c'", "window_1 has a, b" } },
-    { "number", "axis_y:\n  b: abc\n", { ":2:", "axis_y.b is not a number ('abc'" } },
-    { "nan", "work_plane:\n  z: nan\n", { ":2:", "work_plane.z is not finite ('nan'" } },
-    { "yaml_nan", "work_plane:\n  a: .nan\n", { ":2:", "work_plane.a is not a number ('.nan'" } },
-    { "list", "work_plane:\n  x: [1, 2]\n", { ":2:", "work_plane.x is not a number" } },
-    { "not_map", "- a\n- b\n", { ":1:", "not a map", "elements: source" } },
-    { "element_not_map", "\nmirror_y: 3\n", { ":2:", "mirror_y must be a map", "z, a, b" } },
-    { "duplicate", "axis_x: {a: 1}\naxis_x: {b: 1}\n", { ":2:", "duplicate key 'axis_x'" } },
-    { "duplicate_component", "axis_x: {a: 1, a: 2}\n", { ":1:", "duplicate key 'axis_x.a'" } },
-    { "name", "name: [a]\n", { ":1:", "name must be a non-empty string" } },
-    { "yaml", "source: {y: 0.1\nmirror_x: {z: 1}\n", { "malformed YAML" } },
+      {"element",
+       "source: {y: 0.01}\nlaser_source: {y: 0}\n",
+       {":2:", "unknown element 'laser_source'",
+        "source, axis_x, mirror_x, axis_y, mirror_y, window_1, window_2, work_plane"}},
+      {"component", "mirror_x:\n  z: 0.01\n  x: 0.02\n", {":3:", "unknown component 'mirror_x.x'", "z, a, b"}},
+      {"component_flow", "source: {y: 0.1, a: 0.2}\n", {":1:", "'source.a'", "y, z, b, c"}},
+      {"window", "window_1: {c: 0.1}\n", {":1:", "'window_1.c'", "window_1 has a, b"}},
+      {"number", "axis_y:\n  b: abc\n", {":2:", "axis_y.b is not a number ('abc'"}},
+      {"nan", "work_plane:\n  z: nan\n", {":2:", "work_plane.z is not finite ('nan'"}},
+      {"yaml_nan", "work_plane:\n  a: .nan\n", {":2:", "work_plane.a is not a number ('.nan'"}},
+      {"list", "work_plane:\n  x: [1, 2]\n", {":2:", "work_plane.x is not a number"}},
+      {"not_map", "- a\n- b\n", {":1:", "not a map", "elements: source"}},
+      {"element_not_map", "\nmirror_y: 3\n", {":2:", "mirror_y must be a map", "z, a, b"}},
+      {"duplicate", "axis_x: {a: 1}\naxis_x: {b: 1}\n", {":2:", "duplicate key 'axis_x'"}},
+      {"duplicate_component", "axis_x: {a: 1, a: 2}\n", {":1:", "duplicate key 'axis_x.a'"}},
+      {"name", "name: [a]\n", {":1:", "name must be a non-empty string"}},
+      {"yaml", "source: {y: 0.1\nmirror_x: {z: 1}\n", {"malformed YAML"}},
   };
   for (const Case& c : cases)
   {
@@ -516,16 +525,24 @@ TEST(OpticalDefects, RandomSetsArePortableAndBounded)
   const DefectSet wide = defectSetByName("random:seed=7,mm=0.2,mrad=0.05");
   EXPECT_TRUE(sameBits(wide, randomDefectSet(7, 0.2, 0.05)));
   EXPECT_EQ(wide.name, "random_seed7_mm0.2_mrad0.05");
-  EXPECT_TRUE(sameBits(defectSetByName("random:mrad=0.1,seed=18446744073709551615"),
-                       randomDefectSet(18446744073709551615ULL)));
+  EXPECT_TRUE(
+      sameBits(defectSetByName("random:mrad=0.1,seed=18446744073709551615"), randomDefectSet(18446744073709551615ULL)));
 }
 
 TEST(OpticalDefects, DefectSetByNameFormsAndErrors)
 {
   EXPECT_TRUE(sameBits(defectSetByName(kDefectsDir + "opt_table2.yaml"), optTable2DefectSet()));
-  const char* const bad[] = { "typical",        "random",       "random:",          "random:seed=x",
-                              "random:seed=-1", "random:mm=0.1", "random:seed=1,foo=2", "random:seed=1,mm=-1",
-                              "random:seed=1,seed=2", "random:seed=18446744073709551616", "random:seed=1,mm" };
+  const char* const bad[] = {"typical",
+                             "random",
+                             "random:",
+                             "random:seed=x",
+                             "random:seed=-1",
+                             "random:mm=0.1",
+                             "random:seed=1,foo=2",
+                             "random:seed=1,mm=-1",
+                             "random:seed=1,seed=2",
+                             "random:seed=18446744073709551616",
+                             "random:seed=1,mm"};
   for (const char* spec : bad)
   {
     try
@@ -550,7 +567,7 @@ TEST(OpticalDefects, UrdfWithDefectsIsTheAppliedMachine)
   // unitless), spots within 1e-12 m at random angles over the joint range.
   const std::string text = readFile(kUrdfPath);
   std::mt19937 random(20240605u);  // mt19937's sequence is fixed by the standard
-  for (const DefectSet& set : { optTable2DefectSet(), randomDefectSet(7), randomDefectSet(11, 1.0, 1.0) })
+  for (const DefectSet& set : {optTable2DefectSet(), randomDefectSet(7), randomDefectSet(11, 1.0, 1.0)})
   {
     const std::string urdf = urdfWithDefects(text, set, "scanhead.urdf");
     const OpticalGeometry read = geometryFromUrdf(urdf, set.name + ".urdf");
@@ -564,7 +581,8 @@ TEST(OpticalDefects, UrdfWithDefectsIsTheAppliedMachine)
     double worst = 0.0;
     for (int n = 0; n < 200; ++n)
     {
-      const Eigen::Vector2d q(0.17 * (2.0 * random() / 4294967295.0 - 1.0), 0.17 * (2.0 * random() / 4294967295.0 - 1.0));
+      const Eigen::Vector2d q(0.17 * (2.0 * random() / 4294967295.0 - 1.0),
+                              0.17 * (2.0 * random() / 4294967295.0 - 1.0));
       worst = std::max(worst, (ma.spot(q) - mb.spot(q)).norm());
     }
     EXPECT_LT(worst, 1e-12) << set.name;
@@ -611,8 +629,8 @@ TEST(OpticalDefects, UrdfWithDefectsEditsOnlyTheOriginsWhateverTheLayout)
   };
   const std::string joint = "<joint name=\"mirror_x_defect_joint\" type=\"fixed\">";
   const std::string marked = joint + "\t<!-- \xc2\xb5\xc2\xb5 -->";
-  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
-           { "\n", "\r\n" }, { "\n    ", "\n\t\t" }, { joint, marked } })
+  for (const auto& [from, to] :
+       std::vector<std::pair<std::string, std::string>>{{"\n", "\r\n"}, {"\n    ", "\n\t\t"}, {joint, marked}})
   {
     const std::string variant = replaceAll(text, from, to);
     ASSERT_NE(variant, text) << "'" << to << "'";
@@ -623,7 +641,8 @@ TEST(OpticalDefects, UrdfWithDefectsEditsOnlyTheOriginsWhateverTheLayout)
   const std::string origin = "<origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>";
   const std::size_t at = text.find(origin, text.find("<joint name=\"window_1_defect_joint\""));
   ASSERT_NE(at, std::string::npos);
-  const std::string with_body = std::string(text).replace(at, origin.size(), "<origin xyz='0 0 0' rpy=\"0 0 0\" > </origin >");
+  const std::string with_body =
+      std::string(text).replace(at, origin.size(), "<origin xyz='0 0 0' rpy=\"0 0 0\" > </origin >");
   EXPECT_EQ(urdfWithDefects(with_body, set, "body.urdf"), expected);
   const std::size_t line = text.rfind('\n', at);
   const std::size_t close = text.find("</joint>", at);

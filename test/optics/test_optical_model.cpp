@@ -68,14 +68,14 @@ std::string defectiveUrdf(const std::string& nominal, double scale)
     double x, y, z, a, b, c;
   };
   const Defect table[] = {
-    { "laser_source_defect_joint", 0, -0.063, -0.085, 0, -0.069, -0.065 },
-    { "galvo_x_mount_defect_joint", 0, -0.040, -0.023, 0.030, 0.063, 0.053 },
-    { "mirror_x_defect_joint", 0, 0, -0.025, -0.062, 0.029, 0 },
-    { "galvo_y_mount_defect_joint", 0, -0.099, -0.043, -0.028, 0.018, -0.035 },
-    { "mirror_y_defect_joint", 0, 0, 0.000, -0.075, 0.047, 0 },
-    { "window_1_defect_joint", 0, 0, 0, -0.069, -0.013, 0 },
-    { "window_2_defect_joint", 0, 0, 0, 0.066, -0.028, 0 },
-    { "work_plane_defect_joint", -0.085, 0.011, -0.045, -0.074, 0.040, -0.003 },
+      {"laser_source_defect_joint", 0, -0.063, -0.085, 0, -0.069, -0.065},
+      {"galvo_x_mount_defect_joint", 0, -0.040, -0.023, 0.030, 0.063, 0.053},
+      {"mirror_x_defect_joint", 0, 0, -0.025, -0.062, 0.029, 0},
+      {"galvo_y_mount_defect_joint", 0, -0.099, -0.043, -0.028, 0.018, -0.035},
+      {"mirror_y_defect_joint", 0, 0, 0.000, -0.075, 0.047, 0},
+      {"window_1_defect_joint", 0, 0, 0, -0.069, -0.013, 0},
+      {"window_2_defect_joint", 0, 0, 0, 0.066, -0.028, 0},
+      {"work_plane_defect_joint", -0.085, 0.011, -0.045, -0.074, 0.040, -0.003},
   };
   std::string xml = nominal;
   for (const Defect& d : table)
@@ -157,7 +157,7 @@ TEST(OpticalModel, UrdfGivesTheDocumentedLayout)
   EXPECT_DOUBLE_EQ(g.joint_lower_rad, -0.1745);
   EXPECT_DOUBLE_EQ(g.joint_upper_rad, 0.1745);
   // Turning a mirror keeps its surface e_m in front of the axis and rotates it about the axis.
-  for (double a : { -0.17, 0.05, 0.17 })
+  for (double a : {-0.17, 0.05, 0.17})
   {
     const Eigen::Isometry3d m = model.mirrorXPose(a);
     const Eigen::Vector3d axis_to_surface = m.translation() - g.mount_x.translation();
@@ -171,8 +171,8 @@ TEST(OpticalModel, ScaleAtCentreIsAbout1p4MetresPerRadian)
 {
   const OpticalModel model = makeModel(readUrdf());
   const Eigen::Matrix2d j = model.jacobian(Eigen::Vector2d::Zero());
-  std::cout << "[ info ] dx/dthx = " << j(0, 0) << " m/rad, dy/dthy = " << j(1, 1)
-            << " m/rad, cross terms " << j(0, 1) << ", " << j(1, 0) << "\n";
+  std::cout << "[ info ] dx/dthx = " << j(0, 0) << " m/rad, dy/dthy = " << j(1, 1) << " m/rad, cross terms " << j(0, 1)
+            << ", " << j(1, 0) << "\n";
   // SPEC §4: dx/dθ ≈ 1.4 m/rad; 10 % band.
   EXPECT_NEAR(j(0, 0), 1.4, 0.14);
   EXPECT_NEAR(j(1, 1), 1.4, 0.14);
@@ -186,14 +186,14 @@ TEST(OpticalModel, AnalyticJacobianMatchesCentralDifferences)
   // Nominal head, and OPT's defects x50 so that every derivative term (tilted windows and plane,
   // mirrors off their nominal axes) is exercised.
   const std::string xml = readUrdf();
-  for (const std::string& urdf : { xml, defectiveUrdf(xml, 50.0) })
+  for (const std::string& urdf : {xml, defectiveUrdf(xml, 50.0)})
   {
     const OpticalModel model = makeModel(urdf);
     const double h = 1e-5;  // rad; truncation ~h^2 |h'''|/6 ~ 1e-9 m/rad, rounding ~1e-16/h ~ 1e-11
     double worst = 0.0;
-    for (double tx : { -0.15, -0.05, 0.0, 0.08, 0.17 })
+    for (double tx : {-0.15, -0.05, 0.0, 0.08, 0.17})
     {
-      for (double ty : { -0.17, -0.02, 0.0, 0.11, 0.15 })
+      for (double ty : {-0.17, -0.02, 0.0, 0.11, 0.15})
       {
         const Eigen::Vector2d q(tx, ty);
         Eigen::Matrix2d fd;
@@ -218,8 +218,8 @@ TEST(OpticalModel, DefectiveMachineStaysInvertible)
   const OpticalModel real = makeModel(defectiveUrdf(xml, 1.0));
   const OpticalModel gross = makeModel(defectiveUrdf(xml, 50.0));
   const Eigen::Vector2d shift = real.spot(Eigen::Vector2d::Zero()) - nominal.spot(Eigen::Vector2d::Zero());
-  std::cout << "[ info ] OPT table 2 defects (as placed on our frames) shift the centre spot by ("
-            << shift.x() * 1e3 << ", " << shift.y() * 1e3 << ") mm\n";
+  std::cout << "[ info ] OPT table 2 defects (as placed on our frames) shift the centre spot by (" << shift.x() * 1e3
+            << ", " << shift.y() * 1e3 << ") mm\n";
   // Defects of ~0.05 mm / 0.05 mrad over ~0.8 m of beam: a shift of the order of 0.1 mm.
   EXPECT_GT(shift.norm(), 1e-6);
   EXPECT_LT(shift.norm(), 1e-3);
@@ -259,9 +259,9 @@ TEST(OpticalModel, BeamDirectionFollowsTheDoubleAngleRule)
   const OpticalModel model = makeModel(readUrdf());
   // Exact for the nominal head: mirror X turns the beam by 2θx in the horizontal plane, mirror Y
   // by 2θy about x; plane-parallel windows keep the direction. Tolerance 1e-12 (rounding).
-  for (double tx : { -0.17, -0.06, 0.0, 0.03, 0.12 })
+  for (double tx : {-0.17, -0.06, 0.0, 0.03, 0.12})
   {
-    for (double ty : { -0.15, 0.0, 0.04, 0.17 })
+    for (double ty : {-0.15, 0.0, 0.04, 0.17})
     {
       const Eigen::Vector3d d = model.trace(Eigen::Vector2d(tx, ty)).direction;
       const Eigen::Vector3d expected(std::sin(2 * tx), std::cos(2 * tx) * std::sin(2 * ty),
@@ -271,7 +271,7 @@ TEST(OpticalModel, BeamDirectionFollowsTheDoubleAngleRule)
     }
   }
   // Single-axis: the angle from the vertical is exactly 2θ.
-  for (double a : { -0.17, 0.01, 0.1 })
+  for (double a : {-0.17, 0.01, 0.1})
   {
     const Eigen::Vector3d dx = model.trace(Eigen::Vector2d(a, 0)).direction;
     const Eigen::Vector3d dy = model.trace(Eigen::Vector2d(0, a)).direction;
@@ -295,7 +295,7 @@ TEST(OpticalModel, WindowShiftMatchesTheTextbookPlateFormula)
     const double r = std::asin(thick.n_gas / thick.n_window * std::sin(i));
     return e * std::sin(i - r) / std::cos(r) / std::cos(i);
   };
-  for (double a : { -0.15, -0.03, 0.02, 0.08, 0.17 })
+  for (double a : {-0.15, -0.03, 0.02, 0.08, 0.17})
   {
     // q = (a, 0): the beam meets the horizontal windows at incidence 2a in the xz plane; it is
     // pulled back towards the normal in both windows.
@@ -403,7 +403,7 @@ TEST(OpticalModel, SpotOutsideTheReachableFieldIsNumericalError)
 {
   const OpticalModel model = makeModel(readUrdf());
   // 0.3 m needs ~0.18 rad > 0.1745 rad limit; 5 m is beyond any mirror angle.
-  for (const Eigen::Vector2d& x : { Eigen::Vector2d(0.3, 0.0), Eigen::Vector2d(0.0, -0.3), Eigen::Vector2d(5.0, 5.0) })
+  for (const Eigen::Vector2d& x : {Eigen::Vector2d(0.3, 0.0), Eigen::Vector2d(0.0, -0.3), Eigen::Vector2d(5.0, 5.0)})
   {
     try
     {

@@ -27,9 +27,9 @@ double luminance(const std::array<std::uint8_t, 3>& c)
 TEST(ColourMap, InfernoEndsAndMonotonicLuminance)
 {
   // Table ends (matplotlib inferno entries 0 and 255), and the midpoint entry 128.
-  EXPECT_EQ(inferno(0.0), (std::array<std::uint8_t, 3>{ 0, 0, 4 }));
-  EXPECT_EQ(inferno(1.0), (std::array<std::uint8_t, 3>{ 252, 255, 164 }));
-  EXPECT_EQ(inferno(128.0 / 255.0), (std::array<std::uint8_t, 3>{ 188, 55, 84 }));
+  EXPECT_EQ(inferno(0.0), (std::array<std::uint8_t, 3>{0, 0, 4}));
+  EXPECT_EQ(inferno(1.0), (std::array<std::uint8_t, 3>{252, 255, 164}));
+  EXPECT_EQ(inferno(128.0 / 255.0), (std::array<std::uint8_t, 3>{188, 55, 84}));
   EXPECT_EQ(inferno(-1.0), inferno(0.0));
   EXPECT_EQ(inferno(NAN), inferno(0.0));
   EXPECT_EQ(inferno(7.0), inferno(1.0));
@@ -58,8 +58,10 @@ TEST(ColourMap, RenderEnergyMap)
   EXPECT_EQ(layout.block, 1);
   EXPECT_EQ(img.height, 50);
   EXPECT_GT(img.width, layout.bar_x0 + layout.bar_width);
-  auto colour = [&](int x, int y) { return std::array<std::uint8_t, 3>{ img.pixel(x, y)[0], img.pixel(x, y)[1], img.pixel(x, y)[2] }; };
-  EXPECT_EQ(colour(10, 49 - 40), inferno(1.0));   // flipped: map row 40 is image row 9
+  auto colour = [&](int x, int y) {
+    return std::array<std::uint8_t, 3>{img.pixel(x, y)[0], img.pixel(x, y)[1], img.pixel(x, y)[2]};
+  };
+  EXPECT_EQ(colour(10, 49 - 40), inferno(1.0));  // flipped: map row 40 is image row 9
   EXPECT_EQ(colour(90, 49 - 5), inferno(0.25));
   EXPECT_EQ(colour(0, 0), inferno(0.0));
   EXPECT_EQ(colour(layout.bar_x0, 0), inferno(1.0));   // bar top = scale
@@ -75,7 +77,7 @@ TEST(ColourMap, RenderEnergyMap)
   EXPECT_EQ(small.height, 16);  // 50 / 4 → 13 rows, image at least 16 high
   // map row 40 → block row 10 → image row 13 − 1 − 10 = 2; column 10 → block 2
   const std::uint8_t* hot = small.pixel(2, 2);
-  EXPECT_EQ((std::array<std::uint8_t, 3>{ hot[0], hot[1], hot[2] }), inferno(1.0));
+  EXPECT_EQ((std::array<std::uint8_t, 3>{hot[0], hot[1], hot[2]}), inferno(1.0));
 
   const scanhead::Gray16Image gray = scanhead::energyMapToGray16(map);
   EXPECT_EQ(gray.width, 100);

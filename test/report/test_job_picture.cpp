@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "scanhead/common/errors.hpp"
+#include "scanhead/job/generators/thesis_square_job.hpp"
 #include "scanhead/report/job_picture.hpp"
 #include "scanhead/report/png_writer.hpp"
-#include "scanhead/job/generators/thesis_square_job.hpp"
 
 namespace scanhead
 {

@@ -10,12 +10,12 @@
 #include <fstream>
 
 #include "fixtures/chain_fixture.hpp"
-#include "scanhead/report/energy_exports.hpp"
-#include "scanhead/common/errors.hpp"
-#include "scanhead/metrics/metrics_report.hpp"
 #include "scanhead/chain/results_writer.hpp"
-#include "scanhead/metrics/run_comparison.hpp"
+#include "scanhead/common/errors.hpp"
 #include "scanhead/job/generators/thesis_square_job.hpp"
+#include "scanhead/metrics/metrics_report.hpp"
+#include "scanhead/metrics/run_comparison.hpp"
+#include "scanhead/report/energy_exports.hpp"
 
 namespace fs = std::filesystem;
 using namespace scanhead;
@@ -46,13 +46,13 @@ Written runAndWrite(const std::string& spec, const std::vector<std::string>& ove
 // job's own Σ L/v (the default NC adds no hold); the parts are the squares.
 TEST(LayerReport, MetricsYamlInterfaceAndParts)
 {
-  const Written w = runAndWrite(kTwoSquares, { "energy.crop_parts=10" }, "squares");
+  const Written w = runAndWrite(kTwoSquares, {"energy.crop_parts=10"}, "squares");
   const YAML::Node m = YAML::LoadFile((w.dir / "metrics.yaml").string());
-  for (const char* definition : { "same_instant", "nearest_path" })
+  for (const char* definition : {"same_instant", "nearest_path"})
   {
     const YAML::Node d = m["contour_error"][definition];
     ASSERT_TRUE(d.IsMap()) << definition;
-    for (const char* share : { "share_under_10um", "share_under_20um", "share_under_30um" })
+    for (const char* share : {"share_under_10um", "share_under_20um", "share_under_30um"})
     {
       const double v = d[share].as<double>();
       EXPECT_GE(v, 0.0) << definition << "." << share;
@@ -68,21 +68,25 @@ TEST(LayerReport, MetricsYamlInterfaceAndParts)
   EXPECT_GT(fill, 0.9);
   EXPECT_LE(fill, 1.0);
   EXPECT_GT(m["peak_memory_bytes"].as<std::uint64_t>(), 0u);
-  const SquareJob squares = makeSquareJob([] {
-    SquareJobParams p;
-    p.rows = 1;
-    p.columns = 2;
-    return p;
-  }(), thesisRecipe(1));
+  const SquareJob squares = makeSquareJob(
+      [] {
+        SquareJobParams p;
+        p.rows = 1;
+        p.columns = 2;
+        return p;
+      }(),
+      thesisRecipe(1));
   double ideal = 0.0;
   for (double t : squareTimes(squares))
     ideal += t;
   EXPECT_NEAR(m["layer_time_s"].as<double>(), ideal, 1e-9 * ideal);
   // Angle errors are sampled over the program; both axes see the same count.
-  EXPECT_EQ(m["angle_error"]["x"]["count"].as<std::uint64_t>(), m["contour_error"]["commanded_points"].as<std::uint64_t>());
+  EXPECT_EQ(m["angle_error"]["x"]["count"].as<std::uint64_t>(),
+            m["contour_error"]["commanded_points"].as<std::uint64_t>());
   // One crop per square, at full resolution, plus the overview images.
-  for (const char* file : { "energy_map.png", "energy_map_16bit.png", "energy_map.tiff", "energy_map.yaml",
-                            "crops/part_000.png", "crops/part_000.tiff", "crops/part_001_16bit.png", "crops/part_001.yaml" })
+  for (const char* file :
+       {"energy_map.png", "energy_map_16bit.png", "energy_map.tiff", "energy_map.yaml", "crops/part_000.png",
+        "crops/part_000.tiff", "crops/part_001_16bit.png", "crops/part_001.yaml"})
     EXPECT_TRUE(fs::exists(w.dir / file)) << file;
   EXPECT_FALSE(fs::exists(w.dir / "crops/part_002.png"));
   const YAML::Node crop = YAML::LoadFile((w.dir / "crops/part_000.yaml").string());
@@ -114,8 +118,8 @@ TEST(LayerReport, ThermalViewOnItsWindow)
   const test_support::ChainRun off = test_support::runJob("corner:speed=1,angle=90", {});
   EXPECT_FALSE(off.metrics.thermal_enabled);
   EXPECT_NE(metricsToYaml(off.metrics).find("thermal: null"), std::string::npos);
-  const test_support::ChainRun on =
-      test_support::runJob("corner:speed=1,angle=90", { "thermal.enabled=true", "thermal.start_s=0.001", "thermal.duration_s=0.004" });
+  const test_support::ChainRun on = test_support::runJob(
+      "corner:speed=1,angle=90", {"thermal.enabled=true", "thermal.start_s=0.001", "thermal.duration_s=0.004"});
   ASSERT_TRUE(on.metrics.thermal_enabled);
   EXPECT_EQ(on.metrics.thermal_samples, 400u);
   EXPECT_GT(on.metrics.thermal_melt_pool.max_length_m, 70e-6);  // 200 W at 1 m/s melts a pool longer than the spot
@@ -124,7 +128,7 @@ TEST(LayerReport, ThermalViewOnItsWindow)
   EXPECT_NEAR(e.residual_j(), 0.0, 1e-9 * e.absorbed_j);
   // Absorbed = A·Σ P·Ts over the window's samples (all laser on: the marks last 8 ms from t = 0).
   EXPECT_NEAR(e.absorbed_j, 0.35 * 200.0 * 400 * 1e-5, 1e-9);
-  EXPECT_THROW(loadChainConfig(kConfig, { "thermal.start_s=-1" }), ConfigError);
+  EXPECT_THROW(loadChainConfig(kConfig, {"thermal.start_s=-1"}), ConfigError);
 }
 
 // Two recipes side by side (THESIS Table 3.1): recipe 2 marks the hatch faster, so its layer is shorter.
@@ -150,7 +154,8 @@ TEST(LayerReport, ComparisonOfTwoRecipes)
   EXPECT_NE(comparisonMarkdown(c).find("| fill rate (hatch) | % |"), std::string::npos);
   // The shorter layer is the better one; the energy level ranks nothing.
   const std::string md = comparisonMarkdown(c);
-  const std::string layer_line = md.substr(md.find("| layer time"), md.find('\n', md.find("| layer time")) - md.find("| layer time"));
+  const std::string layer_line =
+      md.substr(md.find("| layer time"), md.find('\n', md.find("| layer time")) - md.find("| layer time"));
   EXPECT_EQ(layer_line.substr(layer_line.size() - 5), "| B |") << layer_line;
   const std::string energy_line = md.substr(md.find("| mean energy along tracks"));
   EXPECT_EQ(energy_line.substr(energy_line.find('\n') - 4, 4), "|  |") << energy_line.substr(0, energy_line.find('\n'));
@@ -170,7 +175,7 @@ TEST(LayerReport, CropRegionsAreParsedOrNamed)
   EXPECT_EQ(r[1].name, "region_1");
   EXPECT_EQ(r[1].max_corner, Eigen::Vector2d(0, 0));
   EXPECT_TRUE(parseMapRegions("").empty());
-  for (const char* bad : { "0,0,1", "0,0,x,1", "1,0,0,1", "0,0,1,1,a/b" })
+  for (const char* bad : {"0,0,1", "0,0,x,1", "1,0,0,1", "0,0,1,1,a/b"})
   {
     try
     {

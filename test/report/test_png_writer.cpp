@@ -51,7 +51,7 @@ struct Decoded
 Decoded decode(const std::vector<std::uint8_t>& png, std::size_t raw_size)
 {
   Decoded d;
-  const std::uint8_t sig[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n' };
+  const std::uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
   EXPECT_TRUE(png.size() > 8 && std::equal(sig, sig + 8, png.begin()));
   std::vector<std::uint8_t> idat;
   std::size_t at = 8;
@@ -123,7 +123,7 @@ TEST(PngWriter, RgbRoundTrip)
 TEST(PngWriter, Gray16BigEndianRoundTrip)
 {
   Gray16Image img(4, 2);
-  const std::uint16_t values[8] = { 0, 1, 255, 256, 0x1234, 0xABCD, 65534, 65535 };
+  const std::uint16_t values[8] = {0, 1, 255, 256, 0x1234, 0xABCD, 65534, 65535};
   for (int i = 0; i < 8; ++i)
     img.gray[i] = values[i];
   const Decoded d = decode(encodePng(img), 2 * (1 + 8));
@@ -156,8 +156,8 @@ TEST(PngWriter, LargeImageSplitsIdat)
   EXPECT_GE(idats, 2);
   ASSERT_EQ(d.scanlines.size(), 800u * 2401u);
   for (int y = 0; y < 800; y += 97)
-    EXPECT_TRUE(std::equal(img.rgb.begin() + 2400 * y, img.rgb.begin() + 2400 * (y + 1),
-                           d.scanlines.begin() + 2401 * y + 1));
+    EXPECT_TRUE(
+        std::equal(img.rgb.begin() + 2400 * y, img.rgb.begin() + 2400 * (y + 1), d.scanlines.begin() + 2401 * y + 1));
 }
 
 TEST(PngWriter, FileAndErrors)

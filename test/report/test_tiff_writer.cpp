@@ -5,6 +5,7 @@
 /// /usr/bin/python3 has PIL, the file opened by PIL.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -17,7 +18,6 @@
 #include <random>
 #include <stdexcept>
 #include <string>
-#include <sys/stat.h>
 #include <vector>
 
 #include "scanhead/common/errors.hpp"
@@ -62,9 +62,9 @@ std::uint32_t floatBits(float v)
 struct Tag
 {
   std::uint32_t type = 0, count = 0;
-  std::vector<std::uint64_t> ints;   ///< SHORT, LONG; RATIONAL as numerator, denominator pairs
-  std::vector<double> reals;         ///< DOUBLE
-  std::string text;                  ///< ASCII, without the final NUL
+  std::vector<std::uint64_t> ints;  ///< SHORT, LONG; RATIONAL as numerator, denominator pairs
+  std::vector<double> reals;        ///< DOUBLE
+  std::string text;                 ///< ASCII, without the final NUL
 };
 
 struct Tiff
@@ -85,7 +85,7 @@ Tiff parse(const std::vector<std::uint8_t>& b)
   const std::size_t ifd = u32(b, 4);
   EXPECT_EQ(ifd % 2, 0u) << "IFD on a word boundary";
   const std::size_t n = u16(b, ifd);
-  const std::map<std::uint32_t, std::size_t> type_size = { { 1, 1 }, { 2, 1 }, { 3, 2 }, { 4, 4 }, { 5, 8 }, { 12, 8 } };
+  const std::map<std::uint32_t, std::size_t> type_size = {{1, 1}, {2, 1}, {3, 2}, {4, 4}, {5, 8}, {12, 8}};
   for (std::size_t i = 0; i < n; ++i)
   {
     const std::size_t e = ifd + 2 + 12 * i;
@@ -105,14 +105,22 @@ Tiff parse(const std::vector<std::uint8_t>& b)
     {
       switch (v.type)
       {
-        case 2: v.text.push_back(static_cast<char>(b.at(at + k))); break;
-        case 3: v.ints.push_back(u16(b, at + 2 * k)); break;
-        case 4: v.ints.push_back(u32(b, at + 4 * k)); break;
+        case 2:
+          v.text.push_back(static_cast<char>(b.at(at + k)));
+          break;
+        case 3:
+          v.ints.push_back(u16(b, at + 2 * k));
+          break;
+        case 4:
+          v.ints.push_back(u32(b, at + 4 * k));
+          break;
         case 5:
           v.ints.push_back(u32(b, at + 8 * k));
           v.ints.push_back(u32(b, at + 8 * k + 4));
           break;
-        case 12: v.reals.push_back(f64(b, at + 8 * k)); break;
+        case 12:
+          v.reals.push_back(f64(b, at + 8 * k));
+          break;
       }
     }
     if (v.type == 2)
@@ -149,19 +157,21 @@ void checkFile(const std::vector<std::uint8_t>& bytes, int width, int height, co
                const TiffScale& scale)
 {
   const Tiff t = parse(bytes);
-  const std::vector<int> expected_order = scale.description.empty()
-      ? std::vector<int>{ 256, 257, 258, 259, 262, 273, 277, 278, 279, 282, 283, 284, 296, 339, 33550, 33922, 34735 }
-      : std::vector<int>{ 256, 257, 258, 259, 262, 270, 273, 277, 278, 279, 282, 283, 284, 296, 339, 33550, 33922, 34735 };
+  const std::vector<int> expected_order =
+      scale.description.empty()
+          ? std::vector<int>{256, 257, 258, 259, 262, 273, 277, 278, 279, 282, 283, 284, 296, 339, 33550, 33922, 34735}
+          : std::vector<int>{256, 257, 258, 259, 262, 270, 273,   277,   278,
+                             279, 282, 283, 284, 296, 339, 33550, 33922, 34735};
   EXPECT_EQ(t.order, expected_order);
-  EXPECT_EQ(ints(t, 256), std::vector<std::uint64_t>{ static_cast<std::uint64_t>(width) });
-  EXPECT_EQ(ints(t, 257), std::vector<std::uint64_t>{ static_cast<std::uint64_t>(height) });
-  EXPECT_EQ(ints(t, 258), std::vector<std::uint64_t>{ 32 });
-  EXPECT_EQ(ints(t, 259), std::vector<std::uint64_t>{ 1 });
-  EXPECT_EQ(ints(t, 262), std::vector<std::uint64_t>{ 1 });
-  EXPECT_EQ(ints(t, 277), std::vector<std::uint64_t>{ 1 });
-  EXPECT_EQ(ints(t, 284), std::vector<std::uint64_t>{ 1 });
-  EXPECT_EQ(ints(t, 296), std::vector<std::uint64_t>{ 3 });
-  EXPECT_EQ(ints(t, 339), std::vector<std::uint64_t>{ 3 });
+  EXPECT_EQ(ints(t, 256), std::vector<std::uint64_t>{static_cast<std::uint64_t>(width)});
+  EXPECT_EQ(ints(t, 257), std::vector<std::uint64_t>{static_cast<std::uint64_t>(height)});
+  EXPECT_EQ(ints(t, 258), std::vector<std::uint64_t>{32});
+  EXPECT_EQ(ints(t, 259), std::vector<std::uint64_t>{1});
+  EXPECT_EQ(ints(t, 262), std::vector<std::uint64_t>{1});
+  EXPECT_EQ(ints(t, 277), std::vector<std::uint64_t>{1});
+  EXPECT_EQ(ints(t, 284), std::vector<std::uint64_t>{1});
+  EXPECT_EQ(ints(t, 296), std::vector<std::uint64_t>{3});
+  EXPECT_EQ(ints(t, 339), std::vector<std::uint64_t>{3});
   if (!scale.description.empty())
   {
     EXPECT_EQ(t.tags.at(270).text, scale.description);
@@ -174,7 +184,7 @@ void checkFile(const std::vector<std::uint8_t>& bytes, int width, int height, co
   for (std::size_t s = 0; s < counts.size(); ++s)
     EXPECT_EQ(counts[s], 4u * width * std::min<std::uint64_t>(rows_per_strip, height - s * rows_per_strip));
   // Resolution in pixels per centimetre, as a fraction.
-  for (int tag : { 282, 283 })
+  for (int tag : {282, 283})
   {
     const std::vector<std::uint64_t> r = ints(t, tag);
     ASSERT_EQ(r.size(), 2u);
@@ -185,10 +195,10 @@ void checkFile(const std::vector<std::uint8_t>& bytes, int width, int height, co
   // GeoTIFF: exact doubles.
   const Tag& pixel_scale = t.tags.at(33550);
   EXPECT_EQ(pixel_scale.type, 12u);
-  EXPECT_EQ(pixel_scale.reals, (std::vector<double>{ scale.pixel_x_m, scale.pixel_y_m, 0.0 }));
-  EXPECT_EQ(t.tags.at(33922).reals, (std::vector<double>{ 0.0, 0.0, 0.0, scale.x_left_m, scale.y_top_m, 0.0 }));
+  EXPECT_EQ(pixel_scale.reals, (std::vector<double>{scale.pixel_x_m, scale.pixel_y_m, 0.0}));
+  EXPECT_EQ(t.tags.at(33922).reals, (std::vector<double>{0.0, 0.0, 0.0, scale.x_left_m, scale.y_top_m, 0.0}));
   EXPECT_EQ(ints(t, 34735),
-            (std::vector<std::uint64_t>{ 1, 1, 0, 3, 1024, 0, 1, 32767, 1025, 0, 1, 1, 3076, 0, 1, 9001 }));
+            (std::vector<std::uint64_t>{1, 1, 0, 3, 1024, 0, 1, 32767, 1025, 0, 1, 1, 3076, 0, 1, 9001}));
   // Pixels, bit for bit.
   ASSERT_EQ(t.pixels.size(), 4u * data.size());
   for (std::size_t i = 0; i < data.size(); ++i)
@@ -222,17 +232,24 @@ TiffScale scale5um()
 TEST(TiffWriter, SmallImageSpecialValues)
 {
   const int w = 4, h = 3;
-  const std::vector<float> data = { 0.0f, -0.0f, 1.0f, -1.5f,
-                                    std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
-                                    -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::max(),
-                                    std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::min(),
-                                    3.14159274f, 1234567.875f };
+  const std::vector<float> data = {0.0f,
+                                   -0.0f,
+                                   1.0f,
+                                   -1.5f,
+                                   std::numeric_limits<float>::quiet_NaN(),
+                                   std::numeric_limits<float>::infinity(),
+                                   -std::numeric_limits<float>::infinity(),
+                                   std::numeric_limits<float>::max(),
+                                   std::numeric_limits<float>::denorm_min(),
+                                   std::numeric_limits<float>::min(),
+                                   3.14159274f,
+                                   1234567.875f};
   const TiffScale scale = scale5um();
   const std::vector<std::uint8_t> bytes = encodeFloatTiff(w, h, data.data(), scale);
   checkFile(bytes, w, h, data, scale);
   const Tiff t = parse(bytes);
   EXPECT_EQ(ints(t, 273).size(), 1u) << "one strip";
-  EXPECT_EQ(ints(t, 282), (std::vector<std::uint64_t>{ 2000, 1 })) << "5 µm: 2000 pixels/cm";
+  EXPECT_EQ(ints(t, 282), (std::vector<std::uint64_t>{2000, 1})) << "5 µm: 2000 pixels/cm";
   EXPECT_EQ(ints(t, 273)[0] % 8, 0u) << "pixels 8-byte aligned";
   EXPECT_EQ(bytes.size(), ints(t, 273)[0] + 4u * w * h) << "the pixels end the file";
 }
@@ -255,22 +272,22 @@ TEST(TiffWriter, ManyStripsAndUnequalPixels)
   const std::vector<std::uint8_t> bytes = encodeFloatTiff(w, h, data.data(), scale);
   checkFile(bytes, w, h, data, scale);
   const Tiff t = parse(bytes);
-  EXPECT_EQ(ints(t, 278), std::vector<std::uint64_t>{ 16 });
+  EXPECT_EQ(ints(t, 278), std::vector<std::uint64_t>{16});
   EXPECT_EQ(ints(t, 273).size(), 5u);
-  EXPECT_EQ(ints(t, 282), (std::vector<std::uint64_t>{ 1000, 7 })) << "70 µm: 1000/7 pixels/cm";
-  EXPECT_EQ(ints(t, 283), (std::vector<std::uint64_t>{ 100000, 3 })) << "0.3 µm: 100000/3 pixels/cm";
+  EXPECT_EQ(ints(t, 282), (std::vector<std::uint64_t>{1000, 7})) << "70 µm: 1000/7 pixels/cm";
+  EXPECT_EQ(ints(t, 283), (std::vector<std::uint64_t>{100000, 3})) << "0.3 µm: 100000/3 pixels/cm";
   EXPECT_EQ(t.tags.count(270), 0u) << "no description, no tag";
   // One row wider than a strip: a strip per row.
   std::vector<float> wide(20000 * 3, 1.0f);
   const Tiff tw = parse(encodeFloatTiff(20000, 3, wide.data(), scale5um()));
-  EXPECT_EQ(ints(tw, 278), std::vector<std::uint64_t>{ 1 });
-  EXPECT_EQ(ints(tw, 279), (std::vector<std::uint64_t>{ 80000, 80000, 80000 }));
+  EXPECT_EQ(ints(tw, 278), std::vector<std::uint64_t>{1});
+  EXPECT_EQ(ints(tw, 279), (std::vector<std::uint64_t>{80000, 80000, 80000}));
 }
 
 TEST(TiffWriter, WritesAtomically)
 {
   const std::string path = ::testing::TempDir() + "scanhead_test_tiff_writer.tif";
-  std::vector<float> data = { 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f };
+  std::vector<float> data = {1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f};
   scanhead::writeFloatTiff(path, 3, 2, data.data(), scale5um());
   EXPECT_EQ(readFile(path), encodeFloatTiff(3, 2, data.data(), scale5um()));
   EXPECT_FALSE(exists(path + ".tmp"));
@@ -313,7 +330,8 @@ TEST(TiffWriter, BadArguments)
   EXPECT_THROW(encodeFloatTiff(1, -1, &one, ok), std::invalid_argument);
   EXPECT_THROW(encodeFloatTiff(1, 1, nullptr, ok), std::invalid_argument);
   EXPECT_THROW(encodeFloatTiff(40000, 40000, &one, ok), std::invalid_argument) << "6.4 GB: beyond classic TIFF";
-  for (double bad : { 0.0, -5e-6, std::nan(""), std::numeric_limits<double>::infinity(), 1e-15 /* 1e13 pixels/cm: no 32-bit fraction */ })
+  for (double bad : {0.0, -5e-6, std::nan(""), std::numeric_limits<double>::infinity(),
+                     1e-15 /* 1e13 pixels/cm: no 32-bit fraction */})
   {
     TiffScale s = ok;
     s.pixel_y_m = bad;
@@ -346,7 +364,8 @@ TEST(TiffWriter, PilReadsIt)
       "from PIL import Image\n"
       "im = Image.open(sys.argv[1])\n"
       "print(im.format, im.mode, im.size[0], im.size[1])\n"
-      "print(' '.join(struct.pack('<f', im.getpixel((x, y))).hex() for y in range(im.size[1]) for x in range(im.size[0])))\n"
+      "print(' '.join(struct.pack('<f', im.getpixel((x, y))).hex() for y in range(im.size[1]) for x in "
+      "range(im.size[0])))\n"
       "t = im.tag_v2\n"
       "print(t[270])\n"
       "print(' '.join(repr(v) for v in t[33550]))\n"

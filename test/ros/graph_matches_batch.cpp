@@ -7,8 +7,8 @@
 
 #include "ros_config.hpp"
 #include "scanhead/chain/batch_chain.hpp"
-#include "scanhead/job/job_files.hpp"
 #include "scanhead/chain/config_io.hpp"
+#include "scanhead/job/job_files.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
 
 using namespace scanhead;
@@ -17,7 +17,8 @@ TEST(GraphMatchesBatch, IdenticalMetrics)
 {
   ros::NodeHandle nh, private_nh("~");
   JobMetrics::ConstPtr graph;
-  ros::Subscriber sub = nh.subscribe<JobMetrics>("energy/metrics", 1, [&](const JobMetrics::ConstPtr& m) { graph = m; });
+  ros::Subscriber sub =
+      nh.subscribe<JobMetrics>("energy/metrics", 1, [&](const JobMetrics::ConstPtr& m) { graph = m; });
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(100.0);
   while (!graph && ros::ok() && ros::WallTime::now() < deadline)
   {

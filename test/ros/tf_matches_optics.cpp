@@ -43,8 +43,8 @@ TEST(TfMatchesOptics, MirrorsAndSpotAgree)
     {
       sensor_msgs::JointState state;
       state.header.stamp = ros::Time::now();
-      state.name = { "galvo_x", "galvo_y" };
-      state.position = { q.x(), q.y() };
+      state.name = {"galvo_x", "galvo_y"};
+      state.position = {q.x(), q.y()};
       joints.publish(state);
       ros::spinOnce();
       try
@@ -65,16 +65,16 @@ TEST(TfMatchesOptics, MirrorsAndSpotAgree)
   // Mirror surfaces at scattered angles within the field: TF vs the model within 1e-12 (m, and
   // rotation-matrix entries), the tolerance; the chain is in double throughout.
   // Five scattered angle pairs in ±0.12 rad (fixed: the same on every platform).
-  const Eigen::Vector2d angles[] = { { 0.0731, -0.1142 }, { -0.1187, 0.0316 }, { 0.0094, 0.1063 },
-                                     { -0.0528, -0.0779 }, { 0.1196, 0.0851 } };
+  const Eigen::Vector2d angles[] = {
+      {0.0731, -0.1142}, {-0.1187, 0.0316}, {0.0094, 0.1063}, {-0.0528, -0.0779}, {0.1196, 0.0851}};
   double worst = 0.0;
   for (const Eigen::Vector2d& q : angles)
   {
     const Eigen::Isometry3d want_x = model.mirrorXPose(q.x()), want_y = model.mirrorYPose(q.y());
     const Eigen::Isometry3d mx = lookup("scanhead_base", "mirror_x_defect", q, &want_x);
     const Eigen::Isometry3d my = lookup("scanhead_base", "mirror_y_defect", q, &want_y);
-    worst = std::max({ worst, (mx.matrix() - want_x.matrix()).cwiseAbs().maxCoeff(),
-                       (my.matrix() - want_y.matrix()).cwiseAbs().maxCoeff() });
+    worst = std::max({worst, (mx.matrix() - want_x.matrix()).cwiseAbs().maxCoeff(),
+                      (my.matrix() - want_y.matrix()).cwiseAbs().maxCoeff()});
     EXPECT_LT((from_description->spot(q) - model.spot(q)).norm(), 1e-12) << q.transpose();
   }
   EXPECT_LT(worst, 1e-12);
@@ -93,9 +93,10 @@ TEST(TfMatchesOptics, MirrorsAndSpotAgree)
   const OpticalModel from_tf(tf_geometry, config);
   const Eigen::Vector2d a = model.spot(q), b = from_tf.spot(q);
   EXPECT_LT((a - b).norm(), 1e-12) << "model " << a.transpose() << " TF " << b.transpose();
-  std::printf("defects %s: mirror frames TF vs model within %.2e; spot at q = (%.3f, %.3f) rad: model (%.9f, %.9f) m, "
-              "TF (%.9f, %.9f) m\n",
-              config.defects.c_str(), worst, q.x(), q.y(), a.x(), a.y(), b.x(), b.y());
+  std::printf(
+      "defects %s: mirror frames TF vs model within %.2e; spot at q = (%.3f, %.3f) rad: model (%.9f, %.9f) m, "
+      "TF (%.9f, %.9f) m\n",
+      config.defects.c_str(), worst, q.x(), q.y(), a.x(), a.y(), b.x(), b.y());
 }
 
 int main(int argc, char** argv)

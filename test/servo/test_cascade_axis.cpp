@@ -7,8 +7,8 @@
 #include <iostream>
 #include <string>
 
-#include "scanhead/servo/cascade_axis.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/servo/cascade_axis.hpp"
 #include "scanhead/servo/loop_analysis.hpp"
 
 namespace scanhead
@@ -36,9 +36,9 @@ double rampError(const AxisLoopConfig& cfg, double rate_hz, double v, double sec
 
 // Without feedforward (K1 = K2 = 0) and friction, a ramp's steady following error is v × the
 // analytic low-frequency delay −d arg(θ/θref)/dω|0 (≈ 1/Kθ = 31 ms for Y; the slow closed-loop pole
-// near Kθ/(1 + 1.01 Kθ Tdθ) ≈ 9/s decays in 2 s to e^{-18}): within 0.5 % (the residual transient and the discrete controller's O(T) lag).
-// With the feedforward (defaults, friction included) the lag vanishes: the error is below
-// 1e-4 × v × (1/Kθ) and the analytic delay is 0 to 1e-9 s.
+// near Kθ/(1 + 1.01 Kθ Tdθ) ≈ 9/s decays in 2 s to e^{-18}): within 0.5 % (the residual transient and the discrete
+// controller's O(T) lag). With the feedforward (defaults, friction included) the lag vanishes: the error is below 1e-4
+// × v × (1/Kθ) and the analytic delay is 0 to 1e-9 s.
 TEST(CascadeAxis, RampLagEqualsLowFrequencyDelay)
 {
   const ServoConfig c;
@@ -96,7 +96,9 @@ TEST(CascadeAxis, LargeStepSaturatesAndSettles)
   EXPECT_NEAR(o.position, 0.3, 3e-3);
   const double i_now = axis.plant().current();
   EXPECT_EQ(axis.step(0.3, 0.0, 0.0).current, i_now);
-  std::cout << "[ info ] Y raw 0.3 rad step: overshoot " << 100.0 * (peak / 0.3 - 1.0) << " %, after 1 s error " << 0.3 - o.position << " rad, peak |U| " << vmax << " V" << "\n";
+  std::cout << "[ info ] Y raw 0.3 rad step: overshoot " << 100.0 * (peak / 0.3 - 1.0) << " %, after 1 s error "
+            << 0.3 - o.position << " rad, peak |U| " << vmax << " V"
+            << "\n";
 }
 
 // Controller rates: the bench's 20 kHz (every 5th sample) and 200 kHz (two instants per sample)
@@ -115,8 +117,8 @@ TEST(CascadeAxis, ControllerRates)
     for (int k = 0; k < 20000; ++k)
     {
       const double t = k * kTs;
-      const AxisModel::Output o = axis.step(amp * (1 - std::cos(w * t)), amp * w * std::sin(w * t),
-                                            amp * w * w * std::cos(w * t));
+      const AxisModel::Output o =
+          axis.step(amp * (1 - std::cos(w * t)), amp * w * std::sin(w * t), amp * w * w * std::cos(w * t));
       if (k >= 10000)
       {
         sum += std::pow(amp * (1 - std::cos(w * t)) - o.position, 2);

@@ -28,7 +28,10 @@ GalvoPlantParams realPolePlant()
   return p;
 }
 
-double relErr(double identified, double truth) { return std::abs(identified / truth - 1.0); }
+double relErr(double identified, double truth)
+{
+  return std::abs(identified / truth - 1.0);
+}
 }  // namespace
 
 // THESIS eq. (2.13) inverts the forms exactly (round-off: 1e-9), for real and complex i/U poles;
@@ -76,13 +79,12 @@ TEST(GalvoIdentification, RecoversDefaultGalvoWithinFivePercent)
   EXPECT_LT(r.current_bode_max_error_db, 1.0);
   // The angle stays in the ±10° range of a 3-axis head.
   EXPECT_LT(std::max(-r.angle_min_rad, r.angle_max_rad), 10.0 * 3.14159265358979 / 180.0);
-  std::printf("errors R %.2e L %.2e Kc %.2e B %.2e Jeq %.2e; Bode %.3f dB / %.3f dB; residuals %.2e %.2e\n",
-              relErr(r.identified.resistance_ohm, truth.resistance_ohm),
-              relErr(r.identified.inductance_h, truth.inductance_h),
-              relErr(r.identified.torque_constant_nm_per_a, truth.torque_constant_nm_per_a),
-              relErr(r.identified.viscous_nms, truth.viscous_nms), relErr(r.identified.inertia_kgm2, truth.inertia_kgm2),
-              r.theta_bode_max_error_db, r.current_bode_max_error_db, r.theta_fit_rms_residual,
-              r.current_fit_rms_residual);
+  std::printf(
+      "errors R %.2e L %.2e Kc %.2e B %.2e Jeq %.2e; Bode %.3f dB / %.3f dB; residuals %.2e %.2e\n",
+      relErr(r.identified.resistance_ohm, truth.resistance_ohm), relErr(r.identified.inductance_h, truth.inductance_h),
+      relErr(r.identified.torque_constant_nm_per_a, truth.torque_constant_nm_per_a),
+      relErr(r.identified.viscous_nms, truth.viscous_nms), relErr(r.identified.inertia_kgm2, truth.inertia_kgm2),
+      r.theta_bode_max_error_db, r.current_bode_max_error_db, r.theta_fit_rms_residual, r.current_fit_rms_residual);
 }
 
 // Real i/U poles, no friction, no mode, open loop would drift: the weak loop holds it. Same 5 %
@@ -133,12 +135,12 @@ TEST(GalvoIdentification, ReportAndCsv)
   const YAML::Node node = YAML::Load(yaml);
   for (const char* key : {"R_ohm", "L_h", "Kc_nm_per_a", "B_nms", "Jeq_kgm2"})
   {
-    EXPECT_DOUBLE_EQ(node["true"][key].as<double>(),
-                     std::string(key) == "R_ohm" ? truth.resistance_ohm
-                     : std::string(key) == "L_h" ? truth.inductance_h
-                     : std::string(key) == "Kc_nm_per_a" ? truth.torque_constant_nm_per_a
-                     : std::string(key) == "B_nms" ? truth.viscous_nms
-                                                   : truth.inertia_kgm2);
+    EXPECT_DOUBLE_EQ(node["true"][key].as<double>(), std::string(key) == "R_ohm" ? truth.resistance_ohm
+                                                     : std::string(key) == "L_h" ? truth.inductance_h
+                                                     : std::string(key) == "Kc_nm_per_a"
+                                                         ? truth.torque_constant_nm_per_a
+                                                     : std::string(key) == "B_nms" ? truth.viscous_nms
+                                                                                   : truth.inertia_kgm2);
     EXPECT_TRUE(node["identified"][key].IsScalar()) << key;
     EXPECT_TRUE(node["relative_error"][key].IsScalar()) << key;
   }

@@ -38,22 +38,24 @@ std::array<double, 5> rhs(const GalvoPlantParams& g, const std::array<double, 5>
   const double wr = 2.0 * kPi * g.mode_frequency_hz;
   const double omega = x[1] + x[4];
   return {(u - g.resistance_ohm * x[0] - g.torque_constant_nm_per_a * omega) / g.inductance_h,
-          (g.torque_constant_nm_per_a * x[0] - g.viscous_nms * x[1] - g.offset_torque_nm) / g.inertia_kgm2, omega,
-          x[4], -wr * wr * x[3] - 2.0 * g.mode_damping * wr * x[4] + g.mode_gain * x[0]};
+          (g.torque_constant_nm_per_a * x[0] - g.viscous_nms * x[1] - g.offset_torque_nm) / g.inertia_kgm2, omega, x[4],
+          -wr * wr * x[3] - 2.0 * g.mode_damping * wr * x[4] + g.mode_gain * x[0]};
 }
 
 void rk4(const GalvoPlantParams& g, std::array<double, 5>& x, double u, double h)
 {
   auto add = [](const std::array<double, 5>& a, const std::array<double, 5>& b, double c) {
     std::array<double, 5> r;
-    for (int i = 0; i < 5; ++i) r[i] = a[i] + c * b[i];
+    for (int i = 0; i < 5; ++i)
+      r[i] = a[i] + c * b[i];
     return r;
   };
   const auto k1 = rhs(g, x, u);
   const auto k2 = rhs(g, add(x, k1, h / 2), u);
   const auto k3 = rhs(g, add(x, k2, h / 2), u);
   const auto k4 = rhs(g, add(x, k3, h), u);
-  for (int i = 0; i < 5; ++i) x[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+  for (int i = 0; i < 5; ++i)
+    x[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
 }
 }  // namespace
 
@@ -73,7 +75,8 @@ TEST(GalvoPlant, LinearStepMatchesRk4)
   {
     const double u = volt(rng);
     plant.advance(u, kTs);
-    for (int j = 0; j < 1000; ++j) rk4(g, x, u, kTs / 1000);
+    for (int j = 0; j < 1000; ++j)
+      rk4(g, x, u, kTs / 1000);
     err_theta = std::max(err_theta, std::abs(plant.angle() - x[2]));
     err_i = std::max(err_i, std::abs(plant.current() - x[0]));
     err_w = std::max(err_w, std::abs(plant.velocity() - (x[1] + x[4])));
@@ -109,13 +112,15 @@ TEST(GalvoPlant, FrictionIntegrationErrorIsNegligible)
     const double burst = std::fmod(t, 0.05) < 0.04 ? 1.0 : 0.0;
     const double u = burst * (0.02 + 0.5 * (t > 0.1)) * std::sin(2 * kPi * 200 * t);
     coarse.advance(u, kTs);
-    for (int j = 0; j < 1000; ++j) fine.advance(u, kTs / 1000);
+    for (int j = 0; j < 1000; ++j)
+      fine.advance(u, kTs / 1000);
     err = std::max(err, std::abs(coarse.angle() - fine.angle()));
     err_w = std::max(err_w, std::abs(coarse.velocity() - fine.velocity()));
     peak_w = std::max(peak_w, std::abs(fine.velocity()));
     lo = std::min(lo, fine.angle());
     hi = std::max(hi, fine.angle());
-    if (fine.rigidVelocity() * prev_w < 0.0 || (prev_w != 0.0 && fine.rigidVelocity() == 0.0)) ++reversals;
+    if (fine.rigidVelocity() * prev_w < 0.0 || (prev_w != 0.0 && fine.rigidVelocity() == 0.0))
+      ++reversals;
     prev_w = fine.rigidVelocity();
   }
   EXPECT_GT(reversals, 20);
@@ -135,7 +140,8 @@ TEST(GalvoPlant, SteadySpeedUnderConstantVoltage)
   GalvoPlant plant(g);
   plant.reset(0.0);
   const double u = 0.2;
-  for (int k = 0; k < 5000; ++k) plant.advance(u, kTs);
+  for (int k = 0; k < 5000; ++k)
+    plant.advance(u, kTs);
   const double kc = g.torque_constant_nm_per_a, r = g.resistance_ohm;
   const double w = (kc * u / r - g.offset_torque_nm - g.coulomb_torque_nm) / (g.viscous_nms + kc * kc / r);
   EXPECT_NEAR(plant.velocity(), w, 1e-9 * w);
@@ -154,18 +160,21 @@ TEST(GalvoPlant, StictionHoldsAndBreaksAway)
   plant.reset(0.2);
   // i → U/R; Kc U/R − Tp must stay within Tc: U < R (Tp + Tc)/Kc = 2.75 mV
   const double hold = 0.9 * g.resistance_ohm * (g.offset_torque_nm + g.coulomb_torque_nm) / g.torque_constant_nm_per_a;
-  for (int k = 0; k < 2000; ++k) plant.advance(hold, kTs);
+  for (int k = 0; k < 2000; ++k)
+    plant.advance(hold, kTs);
   EXPECT_EQ(plant.rigidVelocity(), 0.0);
   const double wr = 2 * kPi * g.mode_frequency_hz;
   EXPECT_NEAR(plant.angle(), 0.2 + g.mode_gain * plant.current() / (wr * wr), 1e-14);
   EXPECT_NEAR(plant.frictionTorque(), g.torque_constant_nm_per_a * plant.current(), 1e-15);
-  for (int k = 0; k < 2000; ++k) plant.advance(1.2 * hold / 0.9, kTs);
+  for (int k = 0; k < 2000; ++k)
+    plant.advance(1.2 * hold / 0.9, kTs);
   EXPECT_GT(plant.rigidVelocity(), 0.0);
   EXPECT_GT(plant.angle(), 0.2);
   // negative side: drive below −Tc + Tp... reversal then hold at rest again
   GalvoPlant neg(g);
   neg.reset(0.0);
-  for (int k = 0; k < 2000; ++k) neg.advance(-1.5 * hold, kTs);
+  for (int k = 0; k < 2000; ++k)
+    neg.advance(-1.5 * hold, kTs);
   EXPECT_LT(neg.rigidVelocity(), 0.0);
 }
 

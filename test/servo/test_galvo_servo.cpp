@@ -53,7 +53,10 @@ struct Analytic
   double a;
   cd r1;
 
-  Analytic(double wn_in, double zeta_in, double p_in) : wn(wn_in), zeta(zeta_in), p(p_in)
+  Analytic(double wn_in, double zeta_in, double p_in)
+    : wn(wn_in)
+    , zeta(zeta_in)
+    , p(p_in)
   {
     const double wd = wn * std::sqrt(1.0 - zeta * zeta);
     s1 = cd(-zeta * wn, wd);
@@ -63,19 +66,22 @@ struct Analytic
   /// response to the unit impulse, h(t)
   double impulse(double t) const
   {
-    if (t <= 0.0) return 0.0;
+    if (t <= 0.0)
+      return 0.0;
     return -p * a * std::exp(-p * t) + 2.0 * std::real(r1 * s1 * std::exp(s1 * t));
   }
   /// response to the unit step
   double step(double t) const
   {
-    if (t <= 0.0) return 0.0;
+    if (t <= 0.0)
+      return 0.0;
     return 1.0 + a * std::exp(-p * t) + 2.0 * std::real(r1 * std::exp(s1 * t));
   }
   /// response to the unit ramp t·1(t) (integral of the step response)
   double ramp(double t) const
   {
-    if (t <= 0.0) return 0.0;
+    if (t <= 0.0)
+      return 0.0;
     return t + a * (1.0 - std::exp(-p * t)) / p + 2.0 * std::real(r1 * (std::exp(s1 * t) - 1.0) / s1);
   }
 };
@@ -120,7 +126,8 @@ Trajectory analyticPiecewiseLinear(const Analytic& h, const std::vector<double>&
 double maxAbs(const std::vector<double>& v)
 {
   double m = 0.0;
-  for (double x : v) m = std::max(m, std::abs(x));
+  for (double x : v)
+    m = std::max(m, std::abs(x));
   return m;
 }
 
@@ -138,7 +145,8 @@ double simulatedGain(const AxisLoopConfig& cfg, double f_hz)
   {
     const double t = k * kTs;
     const double y = axis.step(std::sin(w * t), 0.0, 0.0).position;
-    if (k < n_transient) continue;
+    if (k < n_transient)
+      continue;
     const double s = std::sin(w * t), c = std::cos(w * t);
     ss += s * s;
     cc += c * c;
@@ -184,7 +192,8 @@ TEST(GalvoServo, NaturalFrequencyButterworthLimit)
   const double wn = naturalFrequencyForBandwidth(def);
   const double w = 2.0 * kPi * def.bandwidth_hz;
   const cd s(0.0, w);
-  const cd hjw = wn * wn * (def.pole_ratio * wn) / ((s * s + 2.0 * def.damping * wn * s + wn * wn) * (s + def.pole_ratio * wn));
+  const cd hjw =
+      wn * wn * (def.pole_ratio * wn) / ((s * s + 2.0 * def.damping * wn * s + wn * wn) * (s + def.pole_ratio * wn));
   EXPECT_NEAR(std::norm(hjw), 0.5, 1e-12);  // bisection to the last bit: rounding only
 }
 
@@ -199,7 +208,7 @@ TEST(GalvoServo, StepMatchesAnalyticContinuousResponse)
   {
     ClosedLoopAxis axis(*loop, kTs, cfg.kc_over_jeq);
     const Analytic h(axis.naturalFrequency(), loop->damping, axis.realPole());
-    const std::size_t n = 400;  // 4 ms, well past settling
+    const std::size_t n = 400;          // 4 ms, well past settling
     const double q0 = 0.1, amp = 0.05;  // realistic absolute angle [rad], step of 0.05 rad
     const std::vector<double> unit = oneSampleRampStep(n);
     const Trajectory ref = analyticPiecewiseLinear(h, unit, kTs);
@@ -216,9 +225,8 @@ TEST(GalvoServo, StepMatchesAnalyticContinuousResponse)
     EXPECT_LT(max_err_v, 1e-9 * amp * maxAbs(ref.vel));
     EXPECT_LT(max_err_a, 1e-9 * amp * maxAbs(ref.acc));
     std::cout << "[ info ] bw " << loop->bandwidth_hz << " Hz: wn = " << axis.naturalFrequency()
-              << " rad/s, p = " << axis.realPole() << " rad/s; max |err| / peak: pos "
-              << max_err_p / amp << ", vel " << max_err_v / (amp * maxAbs(ref.vel)) << ", acc "
-              << max_err_a / (amp * maxAbs(ref.acc)) << "\n";
+              << " rad/s, p = " << axis.realPole() << " rad/s; max |err| / peak: pos " << max_err_p / amp << ", vel "
+              << max_err_v / (amp * maxAbs(ref.vel)) << ", acc " << max_err_a / (amp * maxAbs(ref.acc)) << "\n";
   }
 }
 
@@ -234,7 +242,8 @@ TEST(GalvoServo, RandomPiecewiseLinearMatchesAnalytic)
   std::uniform_real_distribution<double> dist(-0.01, 0.01);
   std::vector<double> u(300);
   u[0] = 0.0;
-  for (std::size_t k = 1; k < u.size(); ++k) u[k] = u[k - 1] + dist(rng);
+  for (std::size_t k = 1; k < u.size(); ++k)
+    u[k] = u[k - 1] + dist(rng);
   const Trajectory ref = analyticPiecewiseLinear(h, u, kTs);
   axis.reset(u[0]);
   double max_err = 0, max_err_v = 0;
@@ -265,16 +274,16 @@ TEST(GalvoServo, StepMetrics)
     {
       const double y = axis.step(u[k], 0.0, 0.0).position;
       peak = std::max(peak, y);
-      if (std::abs(y - 1.0) > 0.01) settle_s = static_cast<double>(k + 1) * kTs;
+      if (std::abs(y - 1.0) > 0.01)
+        settle_s = static_cast<double>(k + 1) * kTs;
     }
     const double overshoot = (peak - 1.0) * 100.0;
     EXPECT_GT(overshoot, 0.0);
     EXPECT_LT(overshoot, 4.6);
     EXPECT_LT(settle_s, 2e-3);
-    std::cout << "[ info ] " << names[a] << ": wn " << axis.naturalFrequency() << " rad/s, p "
-              << axis.realPole() << " rad/s, overshoot " << overshoot << " %, 1 % settling "
-              << settle_s * 1e6 << " us (from the start of the 1-sample ramp), LF delay "
-              << axis.lowFrequencyDelay() * 1e6 << " us\n";
+    std::cout << "[ info ] " << names[a] << ": wn " << axis.naturalFrequency() << " rad/s, p " << axis.realPole()
+              << " rad/s, overshoot " << overshoot << " %, 1 % settling " << settle_s * 1e6
+              << " us (from the start of the 1-sample ramp), LF delay " << axis.lowFrequencyDelay() * 1e6 << " us\n";
   }
 }
 
@@ -304,7 +313,8 @@ TEST(GalvoServo, ConstantSetpointAndDcGain)
   SetpointChunk in;
   in.period_s = kTs;
   in.samples.resize(1000);
-  for (auto& s : in.samples) s.position = q0;
+  for (auto& s : in.samples)
+    s.position = q0;
   const JointChunk out = servo.process(in);
   for (const auto& j : out.samples)
   {
@@ -316,14 +326,16 @@ TEST(GalvoServo, ConstantSetpointAndDcGain)
   const Eigen::Vector2d q1(0.15, 0.05);
   in.first_index = out.endIndex();
   in.samples.assign(2000, SetpointSample());
-  for (auto& s : in.samples) s.position = q1;
+  for (auto& s : in.samples)
+    s.position = q1;
   const JointChunk out2 = servo.process(in);
   EXPECT_NEAR(out2.samples.back().position[0], q1[0], 1e-12);
   EXPECT_NEAR(out2.samples.back().position[1], q1[1], 1e-12);
   EXPECT_NEAR(out2.samples.back().velocity[0], 0.0, 1e-9);
 
   ClosedLoopAxis fresh(cfg.y, kTs, cfg.kc_over_jeq);
-  for (int k = 0; k < 10; ++k) EXPECT_EQ(fresh.step(0.3, 0.0, 0.0).position, 0.3);
+  for (int k = 0; k < 10; ++k)
+    EXPECT_EQ(fresh.step(0.3, 0.0, 0.0).position, 0.3);
 }
 
 // Low-frequency delay: (1) the formula 2ζ/ωn + 1/p equals −arg H(jω)/ω of the continuous transfer
@@ -350,7 +362,8 @@ TEST(GalvoServo, RampFollowingErrorEqualsLowFrequencyDelay)
   SetpointChunk in;
   in.period_s = kTs;
   in.samples.resize(3000);
-  for (std::size_t k = 0; k < in.samples.size(); ++k) in.samples[k].position = v * (k * kTs);
+  for (std::size_t k = 0; k < in.samples.size(); ++k)
+    in.samples[k].position = v * (k * kTs);
   servo.reset(Eigen::Vector2d::Zero());
   const JointChunk out = servo.process(in);
   const Eigen::Vector2d err = in.samples.back().position - out.samples.back().position;
@@ -375,13 +388,18 @@ void checkChunkInvariance(const ServoConfig& cfg)
   for (std::size_t k = 0; k < n; ++k)
   {
     const double t = k * kTs;
-    all[k].position = Eigen::Vector2d(0.05 * std::sin(2 * kPi * 130 * t + ph[0]) + 0.01 * std::sin(2 * kPi * 870 * t + ph[1]) + 2.0 * t,
-                                      0.07 * std::sin(2 * kPi * 90 * t + ph[2]) + 0.02 * std::sin(2 * kPi * 640 * t + ph[3]));
+    all[k].position = Eigen::Vector2d(
+        0.05 * std::sin(2 * kPi * 130 * t + ph[0]) + 0.01 * std::sin(2 * kPi * 870 * t + ph[1]) + 2.0 * t,
+        0.07 * std::sin(2 * kPi * 90 * t + ph[2]) + 0.02 * std::sin(2 * kPi * 640 * t + ph[3]));
     // exact derivatives (the cascade's feedforward reads them; the simple model ignores them)
-    all[k].velocity = Eigen::Vector2d(0.05 * 2 * kPi * 130 * std::cos(2 * kPi * 130 * t + ph[0]) + 0.01 * 2 * kPi * 870 * std::cos(2 * kPi * 870 * t + ph[1]) + 2.0,
-                                      0.07 * 2 * kPi * 90 * std::cos(2 * kPi * 90 * t + ph[2]) + 0.02 * 2 * kPi * 640 * std::cos(2 * kPi * 640 * t + ph[3]));
-    all[k].acceleration = Eigen::Vector2d(-0.05 * std::pow(2 * kPi * 130, 2) * std::sin(2 * kPi * 130 * t + ph[0]) - 0.01 * std::pow(2 * kPi * 870, 2) * std::sin(2 * kPi * 870 * t + ph[1]),
-                                          -0.07 * std::pow(2 * kPi * 90, 2) * std::sin(2 * kPi * 90 * t + ph[2]) - 0.02 * std::pow(2 * kPi * 640, 2) * std::sin(2 * kPi * 640 * t + ph[3]));
+    all[k].velocity = Eigen::Vector2d(0.05 * 2 * kPi * 130 * std::cos(2 * kPi * 130 * t + ph[0]) +
+                                          0.01 * 2 * kPi * 870 * std::cos(2 * kPi * 870 * t + ph[1]) + 2.0,
+                                      0.07 * 2 * kPi * 90 * std::cos(2 * kPi * 90 * t + ph[2]) +
+                                          0.02 * 2 * kPi * 640 * std::cos(2 * kPi * 640 * t + ph[3]));
+    all[k].acceleration = Eigen::Vector2d(-0.05 * std::pow(2 * kPi * 130, 2) * std::sin(2 * kPi * 130 * t + ph[0]) -
+                                              0.01 * std::pow(2 * kPi * 870, 2) * std::sin(2 * kPi * 870 * t + ph[1]),
+                                          -0.07 * std::pow(2 * kPi * 90, 2) * std::sin(2 * kPi * 90 * t + ph[2]) -
+                                              0.02 * std::pow(2 * kPi * 640, 2) * std::sin(2 * kPi * 640 * t + ph[3]));
   }
   auto run = [&](std::size_t chunk) {
     GalvoServo servo(cfg, kTs);
@@ -512,10 +530,10 @@ double throughputNs(const ServoConfig& cfg)
   const int repeats = 400;
   double sink = 0.0;
   const auto t0 = std::chrono::steady_clock::now();
-  for (int r = 0; r < repeats; ++r) sink += servo.process(in).samples.back().position[0];
+  for (int r = 0; r < repeats; ++r)
+    sink += servo.process(in).samples.back().position[0];
   const auto t1 = std::chrono::steady_clock::now();
-  const double ns =
-      std::chrono::duration<double, std::nano>(t1 - t0).count() / (2.0 * repeats * in.samples.size());
+  const double ns = std::chrono::duration<double, std::nano>(t1 - t0).count() / (2.0 * repeats * in.samples.size());
   EXPECT_TRUE(std::isfinite(sink));
   return ns;
 }

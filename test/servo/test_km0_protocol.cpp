@@ -89,7 +89,8 @@ TEST(Km0Metrics, SecondOrderStepOvershootAndSettling)
   const double ts = 1e-6, zeta = 0.3, wn = 2 * kPi * 1000.0, a = 0.02;
   const double wd = wn * std::sqrt(1 - zeta * zeta);
   const auto f = [&](double t) {
-    return a * (1.0 - std::exp(-zeta * wn * t) * (std::cos(wd * t) + zeta / std::sqrt(1 - zeta * zeta) * std::sin(wd * t)));
+    return a *
+           (1.0 - std::exp(-zeta * wn * t) * (std::cos(wd * t) + zeta / std::sqrt(1 - zeta * zeta) * std::sin(wd * t)));
   };
   Km0Phase phase;
   phase.kind = Km0PhaseKind::LargeStep;

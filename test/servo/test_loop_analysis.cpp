@@ -10,8 +10,8 @@
 #include <iostream>
 #include <string>
 
-#include "scanhead/servo/cascade_axis.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/servo/cascade_axis.hpp"
 #include "scanhead/servo/loop_analysis.hpp"
 
 namespace scanhead
@@ -54,7 +54,8 @@ AxisLoopConfig linearised(const AxisLoopConfig& c, bool feedforward)
   AxisLoopConfig l = c;
   l.plant.offset_torque_nm = 0.0;
   l.plant.coulomb_torque_nm = 0.0;
-  if (!feedforward) l.gains.k1 = l.gains.k2 = 0.0;
+  if (!feedforward)
+    l.gains.k1 = l.gains.k2 = 0.0;
   return l;
 }
 }  // namespace
@@ -139,7 +140,8 @@ TEST(LoopAnalysis, AnalyticBandwidthMatchesSimulatedSweep)
     {
       const double f = r * bw;
       const double db = 20 * std::log10(std::abs(simulatedResponse(fb, f)));
-      std::cout << "[ info ] " << f << " Hz: simulated " << db << " dB, analytic " << 20 * std::log10(std::abs(loops.closedLoop(2 * kPi * f, false))) << " dB\n";
+      std::cout << "[ info ] " << f << " Hz: simulated " << db << " dB, analytic "
+                << 20 * std::log10(std::abs(loops.closedLoop(2 * kPi * f, false))) << " dB\n";
       if (f_prev > 0.0 && db_prev >= -3.0103 && db < -3.0103)
         crossing = f_prev + (f - f_prev) * (-3.0103 - db_prev) / (db - db_prev);
       f_prev = f;
@@ -164,8 +166,8 @@ TEST(LoopAnalysis, AnalyticBandwidthMatchesSimulatedSweep)
 // the feedback-only figures are identical (it is not in any loop: exact equality), the ramp lag
 // stays 0 to first order (1e-9 s), the with-feedforward peak drops by more than 2 dB (Y: +6.95 →
 // +4.27 dB, X: +7.23 → +3.74 dB) and |1 − θ/θref| stays below 10 % up to 1 kHz (Y: 8.7 % at 1 kHz),
-// where the THESIS structure is far off (|1 − θ/θref| at 1 kHz: Y 0.99, X 0.46; asserted > 0.3). The time-domain model with it off equals the
-// analytic THESIS eq. 2.32 at 300 Hz and 1 kHz within 3 % (as the sweep test with it on).
+// where the THESIS structure is far off (|1 − θ/θref| at 1 kHz: Y 0.99, X 0.46; asserted > 0.3). The time-domain model
+// with it off equals the analytic THESIS eq. 2.32 at 300 Hz and 1 kHz within 3 % (as the sweep test with it on).
 TEST(LoopAnalysis, VoltageFeedforward)
 {
   const ServoConfig c;
@@ -214,9 +216,10 @@ TEST(LoopAnalysis, ReportYaml)
 {
   const ServoConfig c;
   const YAML::Node y = YAML::Load(loopsReportYaml(c, 1));
-  for (const char* key : {"bandwidth_hz", "position_crossover_rad_s", "position_phase_margin_deg", "speed_crossover_rad_s",
-                          "speed_phase_margin_deg", "current_crossover_rad_s", "current_phase_margin_deg",
-                          "bandwidth_with_feedforward_hz", "low_frequency_delay_s", "mode_frequency_hz"})
+  for (const char* key :
+       {"bandwidth_hz", "position_crossover_rad_s", "position_phase_margin_deg", "speed_crossover_rad_s",
+        "speed_phase_margin_deg", "current_crossover_rad_s", "current_phase_margin_deg",
+        "bandwidth_with_feedforward_hz", "low_frequency_delay_s", "mode_frequency_hz"})
     EXPECT_TRUE(y[key].IsDefined()) << key;
   const LoopReport r = analyseLoops(c.y.plant, c.y.gains, 1.0 / c.controller_rate_hz);
   EXPECT_NEAR(y["bandwidth_hz"].as<double>(), r.bandwidth_hz, 1e-5 * r.bandwidth_hz);

@@ -134,7 +134,8 @@ TEST(ThermalConfig, ValidateNamesFieldAndValue)
   EXPECT_EQ(configMessage(c), "thermal.loss_depth_m must be finite (got inf)");
   c = ThermalConfig();
   c.phase_switch = "melt";
-  EXPECT_EQ(configMessage(c), "thermal.phase_switch: unknown 'melt' (known: keep_temperature, keep_energy, consolidate)");
+  EXPECT_EQ(configMessage(c),
+            "thermal.phase_switch: unknown 'melt' (known: keep_temperature, keep_energy, consolidate)");
   c = ThermalConfig();
   c.face_conductivity = "geometric";
   EXPECT_EQ(configMessage(c), "thermal.face_conductivity: unknown 'geometric' (known: arithmetic, harmonic)");
@@ -190,7 +191,7 @@ TEST(ThermalLayer, DwellEnergyConservation)
   EXPECT_LT(relErr(e.absorbed_j, absorbed), 1e-12);
   EXPECT_LT(relErr(e.stored_j, stored), 1e-12);
   EXPECT_LT(std::abs(e.residual_j()), 1e-10 * absorbed);  // the discrete books close to rounding
-  EXPECT_EQ(e.phase_switch_j, 0.0);                      // "consolidate", c_s = c_p: no energy at the switch
+  EXPECT_EQ(e.phase_switch_j, 0.0);                       // "consolidate", c_s = c_p: no energy at the switch
   EXPECT_LT(e.outside_j + e.left_window_j + e.truncated_j, 1e-6 * absorbed);  // domain large enough
   EXPECT_GT(layer.meltedCellCount(), 0u);
   const double cons = std::abs(stored + lost_by_test - absorbed) / absorbed;
@@ -250,12 +251,12 @@ TEST(ThermalSteadyReference, PointSourceK0)
   const double m2 = c.lossCoefficient() / lam;
   const double s = std::sqrt(std::pow(v / (2 * a), 2) + m2);
   const double q = c.absorptivity * p;
-  for (const Eigen::Vector2d& x : { Eigen::Vector2d(-200e-6, 30e-6), Eigen::Vector2d(50e-6, 0.0),
-                                    Eigen::Vector2d(0.0, 100e-6), Eigen::Vector2d(-600e-6, 0.0) })
+  for (const Eigen::Vector2d& x : {Eigen::Vector2d(-200e-6, 30e-6), Eigen::Vector2d(50e-6, 0.0),
+                                   Eigen::Vector2d(0.0, 100e-6), Eigen::Vector2d(-600e-6, 0.0)})
   {
     const double rho = x.norm();
-    const double k0 = q / (2 * M_PI * lam * c.layer_thickness_m) * std::exp(-v * x.x() / (2 * a)) *
-                      std::cyl_bessel_k(0.0, rho * s);
+    const double k0 =
+        q / (2 * M_PI * lam * c.layer_thickness_m) * std::exp(-v * x.x() / (2 * a)) * std::cyl_bessel_k(0.0, rho * s);
     const double t = scanhead::steadyMovingSpotRise(c, p, v, x.x(), x.y());
     std::cout << "[K0] xi " << x.x() * 1e6 << " eta " << x.y() * 1e6 << " um: integral " << t << " K, K0 " << k0
               << " K\n";
@@ -276,8 +277,8 @@ TEST(ThermalLayer, SteadyMeltPoolMatchesMovingSourceSolution)
     SteadyMeltPool ref;
     double sim_len = 0.0, sim_wid = 0.0;
   };
-  std::vector<Case> cases = { { 150, 0.5, {} }, { 150, 1.0, {} }, { 250, 0.5, {} },
-                              { 250, 1.0, {} }, { 150, 2.0, {} }, { 125, 0.5, {} } };
+  std::vector<Case> cases = {{150, 0.5, {}}, {150, 1.0, {}}, {250, 0.5, {}},
+                             {250, 1.0, {}}, {150, 2.0, {}}, {125, 0.5, {}}};
   for (Case& k : cases)
   {
     k.ref = scanhead::steadyMeltPool(c, k.p, k.v);
@@ -292,9 +293,9 @@ TEST(ThermalLayer, SteadyMeltPoolMatchesMovingSourceSolution)
     k.sim_wid = layer.stats().steady_width_mean_m;
     std::cout << "[steady] P " << k.p << " W, v " << k.v << " m/s: length predicted " << k.ref.length_m * 1e6
               << " um, simulated " << k.sim_len * 1e6 << " um (" << 100 * (k.sim_len / k.ref.length_m - 1)
-              << " %, spread " << layer.stats().steady_length_std_m * 1e6 << " um over "
-              << layer.stats().steady_steps << " steps); width " << k.ref.width_m * 1e6 << " / " << k.sim_wid * 1e6
-              << " um (" << 100 * (k.sim_wid / k.ref.width_m - 1) << " %); peak " << k.ref.peak_k << " / "
+              << " %, spread " << layer.stats().steady_length_std_m * 1e6 << " um over " << layer.stats().steady_steps
+              << " steps); width " << k.ref.width_m * 1e6 << " / " << k.sim_wid * 1e6 << " um ("
+              << 100 * (k.sim_wid / k.ref.width_m - 1) << " %); peak " << k.ref.peak_k << " / "
               << layer.stats().steady_peak_mean_k << " K\n";
     ASSERT_GT(layer.stats().steady_steps, 20u);
     // Grid-limited (10 µm cells, w = 3.5 cells; dt = 2 Ts): measured 0.1–2 %.
@@ -302,7 +303,7 @@ TEST(ThermalLayer, SteadyMeltPoolMatchesMovingSourceSolution)
     EXPECT_LT(relErr(k.sim_wid, k.ref.width_m), 0.05) << "P " << k.p << " v " << k.v;
   }
   auto len = [&](int i, bool sim) { return sim ? cases[i].sim_len : cases[i].ref.length_m; };
-  for (bool sim : { false, true })
+  for (bool sim : {false, true})
   {
     EXPECT_GT(len(2, sim), len(0, sim)) << "power, 0.5 m/s, sim " << sim;
     EXPECT_GT(len(3, sim), len(1, sim)) << "power, 1 m/s";
@@ -324,7 +325,7 @@ TEST(ThermalLayer, SteadyMeltPoolMatchesMovingSourceSolution)
 // holds it lower (within 20 %), still bounded and positive.
 TEST(ThermalLayer, StableAtLargeDiffusionNumber)
 {
-  for (std::size_t ns : { std::size_t(1), std::size_t(10) })
+  for (std::size_t ns : {std::size_t(1), std::size_t(10)})
   {
     ThermalConfig c = uniformBed();
     c.cell_m = 5e-6;
@@ -356,8 +357,8 @@ TEST(ThermalLayer, StableAtLargeDiffusionNumber)
       if (k + 5 == 300)
         centre_end = layer.riseAt(at);
     }
-    std::cout << "[stability] dt " << dt * 1e6 << " us = " << dt / dt_explicit << " x explicit limit: T in ["
-              << tmin << ", " << tmax << "] K; dwell centre " << centre_end << " K vs steady " << steady << " K\n";
+    std::cout << "[stability] dt " << dt * 1e6 << " us = " << dt / dt_explicit << " x explicit limit: T in [" << tmin
+              << ", " << tmax << "] K; dwell centre " << centre_end << " K vs steady " << steady << " K\n";
     EXPECT_TRUE(finite);
     EXPECT_GE(tmin, 0.0);
     EXPECT_LE(tmax, steady * 1.001);
@@ -466,7 +467,7 @@ TEST(ThermalLayer, MeltedCellsStaySolidAndASecondPassSeesThem)
 // "keep_temperature" (PATH read literally) books the energy the switch creates; the books still close.
 TEST(ThermalLayer, PhaseSwitchModesKeepTheBooks)
 {
-  for (const char* mode : { "keep_temperature", "keep_energy", "consolidate" })
+  for (const char* mode : {"keep_temperature", "keep_energy", "consolidate"})
   {
     ThermalConfig c;
     c.phase_switch = mode;
@@ -477,8 +478,7 @@ TEST(ThermalLayer, PhaseSwitchModesKeepTheBooks)
     feed(layer, s, 1000);
     const ThermalEnergy e = layer.energy();
     std::cout << "[modes] " << mode << ": absorbed " << e.absorbed_j << " J, switch " << e.phase_switch_j
-              << " J, max length " << layer.stats().max_length_m * 1e6 << " um, residual " << e.residual_j()
-              << " J\n";
+              << " J, max length " << layer.stats().max_length_m * 1e6 << " um, residual " << e.residual_j() << " J\n";
     EXPECT_LT(std::abs(e.residual_j()), 1e-10 * e.absorbed_j) << mode;
     if (std::string(mode) == "keep_temperature")
       EXPECT_GT(e.phase_switch_j, 0.05 * e.absorbed_j);  // κ doubles at T > T_melt
@@ -546,7 +546,7 @@ TEST(ThermalLayer, ChunkingIsBitIdentical)
   EXPECT_GT(ref.energy().left_window_j, 0.0);  // the window did move and drop heat
   EXPECT_GT(ref.stats().steady_steps, 0u);
   EXPECT_EQ(sref.back().samples, (s.pos.size() - 1) % 3 + 1);  // finish() runs the short last step
-  for (std::size_t chunk : { std::size_t(1), std::size_t(7) })
+  for (std::size_t chunk : {std::size_t(1), std::size_t(7)})
   {
     ThermalLayer other(c);
     const std::vector<ThermalStep> so = feed(other, s, chunk);

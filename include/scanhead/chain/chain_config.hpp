@@ -8,9 +8,9 @@
 
 #include "scanhead/energy/energy_config.hpp"
 #include "scanhead/job/cam_config.hpp"
+#include "scanhead/job/recipe.hpp"
 #include "scanhead/nc/nc_config.hpp"
 #include "scanhead/optics/optics_config.hpp"
-#include "scanhead/job/recipe.hpp"
 #include "scanhead/servo/servo_config.hpp"
 #include "scanhead/thermal/thermal_config.hpp"
 

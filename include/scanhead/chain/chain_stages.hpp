@@ -53,7 +53,11 @@ struct NoInput
 class CamStage final : public Stage<std::string, NoInput, Job>
 {
 public:
-  CamStage(const CamConfig& cam, double field_half_width_m) : cam_(cam), field_half_width_m_(field_half_width_m) {}
+  CamStage(const CamConfig& cam, double field_half_width_m)
+    : cam_(cam)
+    , field_half_width_m_(field_half_width_m)
+  {
+  }
   /// \throws InputError naming the file and what is wrong (loadJob, validateScanJob)
   void reset(const std::string& argument) override;
   Job process(const NoInput&) override { return job_; }
@@ -87,7 +91,10 @@ private:
 class ServoStage final : public Stage<ServoJob, SetpointChunk, JointChunk>
 {
 public:
-  explicit ServoStage(const ServoConfig& config) : config_(config) {}
+  explicit ServoStage(const ServoConfig& config)
+    : config_(config)
+  {
+  }
   /// \brief A new job: a servo at \p job.period_s, put at rest by the first chunk's first setpoint.
   void reset(const ServoJob& job) override;
   JointChunk process(const SetpointChunk& setpoint) override;
@@ -112,7 +119,10 @@ class OpticsStage final : public Stage<NoInput, OpticsInput, SpotChunk>
 {
 public:
   /// \param[in] optics must outlive this object
-  explicit OpticsStage(const OpticalModel& optics) : optics_(optics) {}
+  explicit OpticsStage(const OpticalModel& optics)
+    : optics_(optics)
+  {
+  }
   void reset(const NoInput&) override {}  // stateless: each sample is traced on its own
   SpotChunk process(const OpticsInput& in) override { return optics_.process(in.setpoint, in.joints, in.laser); }
   SpotChunk finish() override { return SpotChunk(); }
@@ -126,7 +136,10 @@ private:
 class EnergySinkStage final : public Stage<PlannedJob, SpotChunk, std::uint64_t, RunMetrics>
 {
 public:
-  explicit EnergySinkStage(const ChainConfig& config) : config_(config) {}
+  explicit EnergySinkStage(const ChainConfig& config)
+    : config_(config)
+  {
+  }
   void reset(const PlannedJob& job) override { stage_ = std::make_unique<EnergyStage>(config_, job.job, job.plan); }
   /// \pre reset() was called (throws std::logic_error otherwise)
   std::uint64_t process(const SpotChunk& chunk) override;

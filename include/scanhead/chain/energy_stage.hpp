@@ -6,16 +6,16 @@
 #include <memory>
 
 #include "scanhead/chain/chain_config.hpp"
+#include "scanhead/chain/trace_recorder.hpp"
 #include "scanhead/energy/energy_accumulator.hpp"
+#include "scanhead/job/scan_job.hpp"
 #include "scanhead/metrics/laser_placement.hpp"
-#include "scanhead/metrics/layer_quality.hpp"
-#include "scanhead/thermal/thermal_layer.hpp"
 #include "scanhead/metrics/laser_settling.hpp"
+#include "scanhead/metrics/layer_quality.hpp"
+#include "scanhead/metrics/run_metrics.hpp"
 #include "scanhead/nc/nc_plan.hpp"
 #include "scanhead/nc/nc_stats.hpp"
-#include "scanhead/metrics/run_metrics.hpp"
-#include "scanhead/job/scan_job.hpp"
-#include "scanhead/chain/trace_recorder.hpp"
+#include "scanhead/thermal/thermal_layer.hpp"
 
 namespace scanhead
 {
@@ -56,9 +56,10 @@ private:
   CornerTracker corners_;
   LaserSettlingCheck settling_;
   LaserPlacement placement_;
-  std::vector<SpotSample> track_;  ///< every track_stride_-th laser-on sample, and one laser-off sample after each burst
-  std::uint64_t track_seen_ = 0;   ///< laser-on samples seen
-  std::uint64_t track_stride_ = 1; ///< doubles whenever track_ would exceed energy.track_max_samples
+  std::vector<SpotSample>
+      track_;                     ///< every track_stride_-th laser-on sample, and one laser-off sample after each burst
+  std::uint64_t track_seen_ = 0;  ///< laser-on samples seen
+  std::uint64_t track_stride_ = 1;  ///< doubles whenever track_ would exceed energy.track_max_samples
   std::size_t track_peak_bytes_ = 0;
   std::vector<Eigen::Vector2d> mark_ends_;  ///< first and last points of the marks: not track interior
   StreamCounter counter_;

@@ -14,8 +14,8 @@
 #include "scanhead/chain/chain_config.hpp"
 #include "scanhead/chain/energy_stage.hpp"
 #include "scanhead/common/plot_hook.hpp"
-#include "scanhead/metrics/run_metrics.hpp"
 #include "scanhead/job/scan_job.hpp"
+#include "scanhead/metrics/run_metrics.hpp"
 
 namespace scanhead
 {

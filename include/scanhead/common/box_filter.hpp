@@ -73,10 +73,7 @@ public:
   }
 
   /// \brief x(t_n − T), the input linearly interpolated at the (fractional) delay T.
-  Vector delayed() const
-  {
-    return (1.0 - frac_) * sampleAgo(whole_) + frac_ * sampleAgo(whole_ + 1);
-  }
+  Vector delayed() const { return (1.0 - frac_) * sampleAgo(whole_) + frac_ * sampleAgo(whole_ + 1); }
 
   /// \brief Exact derivative of the output: (x_n − x(t_n − T))/T; (x_n − x_{n−1})/Ts if T = 0.
   Vector derivative() const
@@ -101,7 +98,7 @@ private:
   std::size_t whole_ = 0;    ///< m = floor(T/Ts)
   double frac_ = 0.0;        ///< f = T/Ts − m
   bool identity_ = true;
-  std::size_t taps_ = 2;     ///< m + 2
+  std::size_t taps_ = 2;         ///< m + 2
   std::vector<double> weights_;  ///< weights_[j] multiplies x_{n − (taps−1−j)}, scaled by 1/(m+f)
   Eigen::Matrix<double, N, Eigen::Dynamic> buffer_;  ///< 2·taps columns, each sample written twice
   std::size_t head_ = 0;

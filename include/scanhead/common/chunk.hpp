@@ -36,11 +36,11 @@ struct LaserSample
 /// \brief Intermediate NC signals for analysis (nc/debug, SPEC §1; NC Fig. 2).
 struct NcDebugSample
 {
-  Eigen::Vector2d x_inter = Eigen::Vector2d::Zero();  ///< sampled CAM path [m]
-  Eigen::Vector2d q_inter = Eigen::Vector2d::Zero();  ///< after the inverse geometric transform [rad]
+  Eigen::Vector2d x_inter = Eigen::Vector2d::Zero();               ///< sampled CAM path [m]
+  Eigen::Vector2d q_inter = Eigen::Vector2d::Zero();               ///< after the inverse geometric transform [rad]
   Eigen::Vector2d q_inter_velocity = Eigen::Vector2d::Zero();      ///< backward difference [rad/s]
   Eigen::Vector2d q_inter_acceleration = Eigen::Vector2d::Zero();  ///< second backward difference [rad/s²]
-  Eigen::Vector2d q_filt1 = Eigen::Vector2d::Zero();  ///< after FIR T1 [rad]
+  Eigen::Vector2d q_filt1 = Eigen::Vector2d::Zero();               ///< after FIR T1 [rad]
   Eigen::Vector2d q_filt1_velocity = Eigen::Vector2d::Zero();      ///< [rad/s]
   Eigen::Vector2d q_filt1_acceleration = Eigen::Vector2d::Zero();  ///< [rad/s²]
 };
@@ -56,11 +56,11 @@ struct JointSample
 /// \brief Spot on the work plane per sample.
 struct SpotSample
 {
-  Eigen::Vector2d setpoint = Eigen::Vector2d::Zero();  ///< Q_filt2 through the direct model [m]
-  Eigen::Vector2d actual = Eigen::Vector2d::Zero();    ///< Q_exp through the direct model [m]
+  Eigen::Vector2d setpoint = Eigen::Vector2d::Zero();     ///< Q_filt2 through the direct model [m]
+  Eigen::Vector2d actual = Eigen::Vector2d::Zero();       ///< Q_exp through the direct model [m]
   Eigen::Vector3d direction = Eigen::Vector3d(0, 0, -1);  ///< unit beam direction at the plane (plane frame)
   Eigen::Vector2d angle_error = Eigen::Vector2d::Zero();  ///< Q_filt2 − Q_exp per axis [rad] (servo following error)
-  double power_w = 0.0;                                ///< laser power [W]
+  double power_w = 0.0;                                   ///< laser power [W]
 };
 
 using SetpointChunk = Chunk<SetpointSample>;

@@ -61,13 +61,13 @@ public:
   }
 
   bool started() const { return started_; }
-  std::uint64_t next() const { return next_; }           ///< one past the last index taken
-  std::uint64_t taken() const { return taken_; }         ///< samples taken
-  std::uint64_t missing() const { return missing_; }     ///< samples lost in gaps (and before the first)
-  std::uint64_t repeated() const { return repeated_; }   ///< samples skipped as already taken
-  std::uint64_t gaps() const { return gaps_; }           ///< gaps seen
+  std::uint64_t next() const { return next_; }               ///< one past the last index taken
+  std::uint64_t taken() const { return taken_; }             ///< samples taken
+  std::uint64_t missing() const { return missing_; }         ///< samples lost in gaps (and before the first)
+  std::uint64_t repeated() const { return repeated_; }       ///< samples skipped as already taken
+  std::uint64_t gaps() const { return gaps_; }               ///< gaps seen
   std::uint64_t lateChunks() const { return late_chunks_; }  ///< chunks with nothing new
-  std::uint64_t overlaps() const { return reorders_; }   ///< chunks that were partly old
+  std::uint64_t overlaps() const { return reorders_; }       ///< chunks that were partly old
 
 private:
   bool started_ = false;

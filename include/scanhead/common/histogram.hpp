@@ -46,10 +46,10 @@ public:
   const std::vector<std::uint64_t>& binCounts() const { return counts_; }
 
   std::uint64_t count() const { return in_range_ + underflow_ + overflow_; }  ///< finite samples
-  std::uint64_t inRange() const { return in_range_; }                          ///< lo ≤ x ≤ hi
-  std::uint64_t underflow() const { return underflow_; }                       ///< x < lo
-  std::uint64_t overflow() const { return overflow_; }                         ///< x > hi
-  std::uint64_t nonFinite() const { return non_finite_; }                      ///< NaN, ±inf
+  std::uint64_t inRange() const { return in_range_; }                         ///< lo ≤ x ≤ hi
+  std::uint64_t underflow() const { return underflow_; }                      ///< x < lo
+  std::uint64_t overflow() const { return overflow_; }                        ///< x > hi
+  std::uint64_t nonFinite() const { return non_finite_; }                     ///< NaN, ±inf
 
   double min() const;   ///< smallest finite sample; NaN if count() = 0
   double max() const;   ///< largest finite sample; NaN if count() = 0
@@ -103,6 +103,5 @@ private:
 /// \endcode
 /// Use it under a key: `out << "angle_error_x:\n" << histogramYaml(h, "  ", 1e6, "urad");`
 /// \throws std::invalid_argument if scale is not finite and > 0
-std::string histogramYaml(const Histogram& histogram, const std::string& indent, double scale,
-                          const std::string& unit);
+std::string histogramYaml(const Histogram& histogram, const std::string& indent, double scale, const std::string& unit);
 }  // namespace scanhead

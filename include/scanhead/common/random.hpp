@@ -24,7 +24,10 @@ class SplitMix64
 {
 public:
   /// \param[in] seed any 64-bit value (0 included)
-  explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
+  explicit SplitMix64(std::uint64_t seed)
+    : state_(seed)
+  {
+  }
 
   /// \brief The next 64 bits.
   std::uint64_t next()

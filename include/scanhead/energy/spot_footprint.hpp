@@ -19,9 +19,9 @@ namespace scanhead
 struct SpotFootprint
 {
   double qxx = 0.0, qxy = 0.0, qyy = 0.0;  ///< Q [1/m²]: exponent −(qxx x² + 2 qxy x y + qyy y²)
-  double radius_m = 0.0;        ///< w across the plane of incidence [m] (the smaller semi-axis)
-  double major_radius_m = 0.0;  ///< w / cos θ along it [m]
-  double defocus_m = 0.0;       ///< z used for w(z) [m]
+  double radius_m = 0.0;                   ///< w across the plane of incidence [m] (the smaller semi-axis)
+  double major_radius_m = 0.0;             ///< w / cos θ along it [m]
+  double defocus_m = 0.0;                  ///< z used for w(z) [m]
 };
 
 /// \brief The footprint for a beam of unit direction \p direction (plane frame, pointing down).

@@ -22,9 +22,9 @@ namespace scanhead
 /// [tj·S, tj·S + S)). A dense directory maps each tile to its slot (4 B per tile: 4.8 MB for a
 /// 350 mm field at 5 µm). At most cache_bytes of tiles are resident; when full, the oldest eighth
 /// (by last use) is written to a temporary file (created in the spill folder and unlinked at once, so
-/// the system frees it whatever happens to the process) and read back when touched again. Values never depend on what was spilled: the same deposits give the
-/// same floats, bit for bit. Reading methods are const but may load tiles (the cache is mutable).
-/// Move-only (it owns the spill file).
+/// the system frees it whatever happens to the process) and read back when touched again. Values never depend on what
+/// was spilled: the same deposits give the same floats, bit for bit. Reading methods are const but may load tiles (the
+/// cache is mutable). Move-only (it owns the spill file).
 class TiledEnergyMap
 {
 public:
@@ -86,8 +86,8 @@ private:
   {
     std::int64_t file_offset = -1;  ///< where the tile lives in the spill file (-1: never spilled)
     std::uint64_t last_use = 0;
-    float* data = nullptr;        ///< resident buffer, or nullptr when spilled
-    bool dirty = true;            ///< changed since it was last written to the file
+    float* data = nullptr;  ///< resident buffer, or nullptr when spilled
+    bool dirty = true;      ///< changed since it was last written to the file
   };
   float* tileForWrite(std::int64_t tile) const;
   float* residentTile(std::int64_t tile) const;

@@ -16,13 +16,13 @@ namespace scanhead
 /// \brief E sampled at the actual spot centre of every laser-on sample, in stream order.
 struct TrackEnergyProfile
 {
-  std::vector<double> arc_m;         ///< arc length of the actual spot path, laser-on samples only [m]
-  std::vector<double> energy_jpm2;   ///< E at the spot centre, bilinear between pixel centres [J/m²]
-  std::vector<char> interior;        ///< 1 if farther than exclude_ends_m from its burst's ends
-  double mean_jpm2 = 0.0;            ///< mean over the interior samples [J/m²]
-  double median_jpm2 = 0.0;          ///< median over the interior samples: the straight-track level [J/m²]
-  double peak_jpm2 = 0.0;            ///< max over the interior samples [J/m²]
-  double min_jpm2 = 0.0;             ///< min over the interior samples: the worst dip [J/m²]
+  std::vector<double> arc_m;        ///< arc length of the actual spot path, laser-on samples only [m]
+  std::vector<double> energy_jpm2;  ///< E at the spot centre, bilinear between pixel centres [J/m²]
+  std::vector<char> interior;       ///< 1 if farther than exclude_ends_m from its burst's ends
+  double mean_jpm2 = 0.0;           ///< mean over the interior samples [J/m²]
+  double median_jpm2 = 0.0;         ///< median over the interior samples: the straight-track level [J/m²]
+  double peak_jpm2 = 0.0;           ///< max over the interior samples [J/m²]
+  double min_jpm2 = 0.0;            ///< min over the interior samples: the worst dip [J/m²]
   Eigen::Vector2d peak_point_m = Eigen::Vector2d::Zero();  ///< where the peak is [m]
   std::size_t interior_samples = 0;
 
@@ -55,13 +55,11 @@ struct TrackEnergyProfile
 /// \param[in] track_ends     optional: where the marked tracks start and end [m]
 /// \throws ConfigError if exclude_ends_m is not finite and >= 0
 /// \throws NumericalError on a non-finite actual spot of a laser-on sample
-TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<SpotSample>& spots,
-                                      double exclude_ends_m,
+TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<SpotSample>& spots, double exclude_ends_m,
                                       const std::vector<Eigen::Vector2d>* track_ends = nullptr);
 /// \brief The same on the sparse map of a run.
 TrackEnergyProfile trackEnergyProfile(const TiledEnergyMap& map, const std::vector<SpotSample>& spots,
-                                      double exclude_ends_m,
-                                      const std::vector<Eigen::Vector2d>* track_ends = nullptr);
+                                      double exclude_ends_m, const std::vector<Eigen::Vector2d>* track_ends = nullptr);
 
 /// \brief Largest E [J/m²] over the pixels whose centre lies within \p radius_m of \p point
 /// (the pixel holding the point if none does); 0 off the map.

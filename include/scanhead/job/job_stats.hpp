@@ -15,13 +15,13 @@ namespace scanhead
 /// \brief Totals of one group of polylines (a group index given per polyline).
 struct JobGroupStats
 {
-  int group = 0;              ///< the group index
-  double time_s = 0.0;        ///< Σ length/speed of its segments, leading implicit jumps included [s]
-  double mark_time_s = 0.0;   ///< [s]
-  double jump_time_s = 0.0;   ///< explicit and implicit jumps [s]
-  double dwell_time_s = 0.0;  ///< spots (Polyline::dwell_s) [s]
-  double mark_length_m = 0.0; ///< [m]
-  double jump_length_m = 0.0; ///< [m]
+  int group = 0;               ///< the group index
+  double time_s = 0.0;         ///< Σ length/speed of its segments, leading implicit jumps included [s]
+  double mark_time_s = 0.0;    ///< [s]
+  double jump_time_s = 0.0;    ///< explicit and implicit jumps [s]
+  double dwell_time_s = 0.0;   ///< spots (Polyline::dwell_s) [s]
+  double mark_length_m = 0.0;  ///< [m]
+  double jump_length_m = 0.0;  ///< [m]
 };
 
 /// \brief Statistics of a job. Segments are those of PathTimeline (SPEC §2.1): every polyline
@@ -54,7 +54,7 @@ struct JobStats
   bool has_points = false;  ///< false for a job without any point (the boxes are then zero)
   Eigen::Vector2d bbox_min_m = Eigen::Vector2d::Zero();       ///< all points [m]
   Eigen::Vector2d bbox_max_m = Eigen::Vector2d::Zero();       ///< all points [m]
-  bool has_marks = false;   ///< at least one MARK segment or MARK spot
+  bool has_marks = false;                                     ///< at least one MARK segment or MARK spot
   Eigen::Vector2d mark_bbox_min_m = Eigen::Vector2d::Zero();  ///< points of MARK segments and spots [m]
   Eigen::Vector2d mark_bbox_max_m = Eigen::Vector2d::Zero();  ///< points of MARK segments and spots [m]
 

@@ -18,18 +18,18 @@ struct PathSegment
 {
   Eigen::Vector2d start_m = Eigen::Vector2d::Zero();  ///< [m] work-plane frame
   Eigen::Vector2d end_m = Eigen::Vector2d::Zero();    ///< [m]
-  double speed_mps = 0.0;   ///< programmed speed [m/s]; 0 on a dwell
-  double power_w = 0.0;     ///< laser power [W]; 0 on jumps
-  bool mark = false;        ///< laser on (MARK polyline)
-  bool implicit_jump = false;  ///< inserted between non-contiguous polylines
-  bool dwell = false;          ///< a spot: start = end, length 0, lasts duration_s = Polyline::dwell_s
-  bool delay = false;          ///< a hold the NC inserts (mark, jump or polygon delay): length 0
-  bool skywriting = false;     ///< a laser-off move of skywriting (run-in, run-out, turn)
-  std::size_t polyline = 0;    ///< job polyline index (implicit jump: the polyline it leads to)
-  std::size_t vertex = 0;      ///< index of start_m in that polyline (implicit jump: 0)
-  double length_m = 0.0;       ///< |end − start| [m], > 0 (a dwell: 0)
-  double t_start_s = 0.0;      ///< prefix sum of the previous durations [s]
-  double duration_s = 0.0;     ///< length / speed [s] (a dwell: its dwell time), > 0
+  double speed_mps = 0.0;                             ///< programmed speed [m/s]; 0 on a dwell
+  double power_w = 0.0;                               ///< laser power [W]; 0 on jumps
+  bool mark = false;                                  ///< laser on (MARK polyline)
+  bool implicit_jump = false;                         ///< inserted between non-contiguous polylines
+  bool dwell = false;        ///< a spot: start = end, length 0, lasts duration_s = Polyline::dwell_s
+  bool delay = false;        ///< a hold the NC inserts (mark, jump or polygon delay): length 0
+  bool skywriting = false;   ///< a laser-off move of skywriting (run-in, run-out, turn)
+  std::size_t polyline = 0;  ///< job polyline index (implicit jump: the polyline it leads to)
+  std::size_t vertex = 0;    ///< index of start_m in that polyline (implicit jump: 0)
+  double length_m = 0.0;     ///< |end − start| [m], > 0 (a dwell: 0)
+  double t_start_s = 0.0;    ///< prefix sum of the previous durations [s]
+  double duration_s = 0.0;   ///< length / speed [s] (a dwell: its dwell time), > 0
 };
 
 /// \brief The job as a gapless sequence of segments starting at t = 0 at rest at its first point.
@@ -69,16 +69,13 @@ public:
   static PathTimeline fromSegments(std::vector<PathSegment> segments);
 
   const std::vector<PathSegment>& segments() const { return segments_; }
-  bool hasPoints() const { return has_points_; }           ///< false for a job without any point
+  bool hasPoints() const { return has_points_; }                ///< false for a job without any point
   const Eigen::Vector2d& startPoint() const { return start_; }  ///< first point of the job [m]
   const Eigen::Vector2d& endPoint() const { return end_; }      ///< last point of the job [m]
-  double duration() const { return duration_s_; }          ///< Σ length/speed + Σ dwell [s]
+  double duration() const { return duration_s_; }               ///< Σ length/speed + Σ dwell [s]
 
   /// \brief End time of segment \p k: the next start time, or duration() for the last one [s].
-  double segmentEnd(std::size_t k) const
-  {
-    return k + 1 < segments_.size() ? segments_[k + 1].t_start_s : duration_s_;
-  }
+  double segmentEnd(std::size_t k) const { return k + 1 < segments_.size() ? segments_[k + 1].t_start_s : duration_s_; }
 
   /// \brief Index of the segment with t_start <= t < end, or npos if t < 0 or t >= duration().
   std::size_t segmentAt(double t_s, Cursor& cursor) const;

@@ -26,9 +26,9 @@ struct Polyline
 {
   PolylineType type = PolylineType::Mark;
   PolylineRole role = PolylineRole::Unspecified;  ///< MARK only; jumps ignore it
-  double speed_mps = 1.0;  ///< programmed tangential speed [m/s], > 0 (unused by a dwell)
-  double power_w = 0.0;    ///< laser power while marking [W], >= 0 (ignored on jumps)
-  std::vector<Eigen::Vector2d> points;  ///< vertices [m], work-plane frame, at least 2 (a dwell: exactly 1)
+  double speed_mps = 1.0;                         ///< programmed tangential speed [m/s], > 0 (unused by a dwell)
+  double power_w = 0.0;                           ///< laser power while marking [W], >= 0 (ignored on jumps)
+  std::vector<Eigen::Vector2d> points;            ///< vertices [m], work-plane frame, at least 2 (a dwell: exactly 1)
   double dwell_s = 0.0;  ///< a spot: laser at this point for this long [s] (one point, MARK); 0: a line
 };
 
@@ -48,9 +48,9 @@ struct Corner
   Eigen::Vector2d point = Eigen::Vector2d::Zero();  ///< commanded corner [m]
   double angle_rad = 0.0;                           ///< direction change gamma (0 = straight on)
   double speed_mps = 0.0;                           ///< programmed speed of the polyline
-  double time_s = 0.0;     ///< time the ideal timeline reaches the corner [s]
-  double window_in_s = 0.0;   ///< half the duration of the incoming segment [s]
-  double window_out_s = 0.0;  ///< half the duration of the outgoing segment [s]
+  double time_s = 0.0;                              ///< time the ideal timeline reaches the corner [s]
+  double window_in_s = 0.0;                         ///< half the duration of the incoming segment [s]
+  double window_out_s = 0.0;                        ///< half the duration of the outgoing segment [s]
 };
 
 /// \brief Corners of more than \p min_angle_rad inside MARK polylines, with their ideal times.

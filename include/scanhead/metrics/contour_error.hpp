@@ -97,4 +97,3 @@ private:
   std::array<std::uint64_t, kBins + 1> bins_{};
 };
 }  // namespace scanhead
-

@@ -82,7 +82,7 @@ public:
 
   int width() const { return width_; }
   int height() const { return height_; }
-  double pitch() const { return pitch_; }                   ///< d [m]
+  double pitch() const { return pitch_; }                    ///< d [m]
   const Eigen::Vector2d& origin() const { return origin_; }  ///< lower-left corner of cell (0, 0) [m]
   /// \brief Bit 0 (kToFill): to fill; bit 1 (kReached): reached by the actual spot. Row 0 is at the
   /// lowest y (flip it for an image whose row 0 is the top).

@@ -15,9 +15,9 @@ namespace scanhead
 {
 struct LaserPlacementCounts
 {
-  std::uint64_t laser_on_samples = 0;   ///< samples with power > 0
-  std::uint64_t off_path_samples = 0;   ///< of those, the actual spot farther than the tolerance from every mark
-  double off_path_energy_j = 0.0;       ///< Σ P·Ts over the off-path samples [J]
+  std::uint64_t laser_on_samples = 0;  ///< samples with power > 0
+  std::uint64_t off_path_samples = 0;  ///< of those, the actual spot farther than the tolerance from every mark
+  double off_path_energy_j = 0.0;      ///< Σ P·Ts over the off-path samples [J]
   /// largest distance of a laser-on spot to the nearest mark [m], exact at any distance (a ring
   /// search of the grid beyond the 3 × 3 cells); +inf if a laser-on sample came while the job has no mark
   double max_distance_m = 0.0;
@@ -33,15 +33,14 @@ struct LaserPlacementCounts
 /// (segment ⊕ square of half side tolerance) touches, row by row (tighter than its bounding box
 /// for the 45° hatch); a dwell (1-point MARK polyline) is a zero-length segment; JUMP polylines
 /// are not marks. Distance point–segment is exact:
-/// \f[ d = \left| p - a - t\,(b - a) \right|, \quad t = \mathrm{clamp}\left(\frac{(p - a)\cdot(b - a)}{|b - a|^2}, 0, 1\right). \f]
-/// A laser-on sample (power > 0) is off path if d > tolerance_m (SPEC §2.5, THESIS §2.6); its own
-/// cell holds every segment within the tolerance, so the on-path test reads one cell.
-/// Most samples need no search: with q the last sample searched, L(q) ≤ d(q) a lower bound of its
-/// distance (d(q) itself, or what its own cell proves) and s(q) its nearest segment found, the
-/// distance d(p) is bounded by |p − s(q)| from above and by L(q) − |p − q| from below (d is
-/// 1-Lipschitz); when the bounds settle both the off-path test and the running maximum, the grid
-/// is not searched (the counts are those of a full search).
-/// Chunk sizes do not change the counts (the state above is carried across chunks).
+/// \f[ d = \left| p - a - t\,(b - a) \right|, \quad t = \mathrm{clamp}\left(\frac{(p - a)\cdot(b - a)}{|b - a|^2}, 0,
+/// 1\right). \f] A laser-on sample (power > 0) is off path if d > tolerance_m (SPEC §2.5, THESIS §2.6); its own cell
+/// holds every segment within the tolerance, so the on-path test reads one cell. Most samples need no search: with q
+/// the last sample searched, L(q) ≤ d(q) a lower bound of its distance (d(q) itself, or what its own cell proves) and
+/// s(q) its nearest segment found, the distance d(p) is bounded by |p − s(q)| from above and by L(q) − |p − q| from
+/// below (d is 1-Lipschitz); when the bounds settle both the off-path test and the running maximum, the grid is not
+/// searched (the counts are those of a full search). Chunk sizes do not change the counts (the state above is carried
+/// across chunks).
 class LaserPlacement
 {
 public:
@@ -78,11 +77,11 @@ private:
 
   double tolerance_m_;
   LaserPlacementCounts counts_;
-  double cell_m_ = 1e-3;                 ///< cell side c [m]
+  double cell_m_ = 1e-3;                                     ///< cell side c [m]
   Eigen::Vector2d grid_origin_m_ = Eigen::Vector2d::Zero();  ///< lower-left corner of cell (0, 0) [m]
-  long nx_ = 0, ny_ = 0;                 ///< cells per row / column (0: no mark)
+  long nx_ = 0, ny_ = 0;                                     ///< cells per row / column (0: no mark)
   std::vector<Segment> segments_;
-  std::vector<std::size_t> cell_start_;  ///< cell (i, j) = j·nx + i holds cell_segments_[start[c], start[c+1])
+  std::vector<std::size_t> cell_start_;       ///< cell (i, j) = j·nx + i holds cell_segments_[start[c], start[c+1])
   std::vector<std::uint32_t> cell_segments_;  ///< segment indices, cell by cell
   // The last searched laser-on sample (bounds for the next ones), carried across chunks.
   bool has_last_ = false;

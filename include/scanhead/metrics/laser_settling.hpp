@@ -57,7 +57,7 @@ private:
   double gate_shift_s_;
   double filter_delay_s_;
   double tolerance_m_;
-  std::size_t current_ = 0;  ///< first window not yet ended
+  std::size_t current_ = 0;                                    ///< first window not yet ended
   std::size_t arrived_window_ = static_cast<std::size_t>(-1);  ///< window whose spot has reached the mark
   LaserSettlingCounts counts_;
 };

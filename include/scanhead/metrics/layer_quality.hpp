@@ -12,12 +12,12 @@
 
 #include "scanhead/common/chunk.hpp"
 #include "scanhead/common/chunk_sequencer.hpp"
-#include "scanhead/metrics/contour_error.hpp"
-#include "scanhead/energy/energy_config.hpp"
-#include "scanhead/metrics/fill_rate.hpp"
 #include "scanhead/common/histogram.hpp"
+#include "scanhead/energy/energy_config.hpp"
 #include "scanhead/job/path_timeline.hpp"
 #include "scanhead/job/scan_job.hpp"
+#include "scanhead/metrics/contour_error.hpp"
+#include "scanhead/metrics/fill_rate.hpp"
 
 namespace scanhead
 {
@@ -32,26 +32,26 @@ struct ContourErrorSplit
 
 struct LayerQualityReport
 {
-  double layer_time_s = 0.0;  ///< the NC program's duration, holds included (THESIS's layer time) [s]
-  double lag_s = 0.0;         ///< actual path behind the command, for the same-instant pairing [s]
-  double window_s = 0.0;      ///< the same-instant search half-width used [s]
-  std::uint64_t commanded_points = 0;   ///< samples of the program (t < layer time)
-  std::uint64_t unmatched_points = 0;   ///< commanded points whose same-instant sample never came (stream gaps, end)
-  ContourErrorSplit same_instant;       ///< definition (b), THESIS §2.5.3.1
-  bool nearest_measured = false;        ///< false: more samples than energy.contour_max_samples
-  ContourErrorSplit nearest_path;       ///< definition (a), NC: distance to the whole actual path
+  double layer_time_s = 0.0;           ///< the NC program's duration, holds included (THESIS's layer time) [s]
+  double lag_s = 0.0;                  ///< actual path behind the command, for the same-instant pairing [s]
+  double window_s = 0.0;               ///< the same-instant search half-width used [s]
+  std::uint64_t commanded_points = 0;  ///< samples of the program (t < layer time)
+  std::uint64_t unmatched_points = 0;  ///< commanded points whose same-instant sample never came (stream gaps, end)
+  ContourErrorSplit same_instant;      ///< definition (b), THESIS §2.5.3.1
+  bool nearest_measured = false;       ///< false: more samples than energy.contour_max_samples
+  ContourErrorSplit nearest_path;      ///< definition (a), NC: distance to the whole actual path
   std::uint64_t fill_cells_to_fill = 0;
   std::uint64_t fill_cells_reached = 0;
-  double fill_rate = 0.0;               ///< reached / to fill (NaN: nothing to fill)
+  double fill_rate = 0.0;                 ///< reached / to fill (NaN: nothing to fill)
   std::uint64_t fill_points_outside = 0;  ///< points off the fill grid (counted, not silently dropped)
-  double fill_pitch_m = 0.0;            ///< cell side = spot diameter [m]
+  double fill_pitch_m = 0.0;              ///< cell side = spot diameter [m]
   /// Q_filt2 − Q_exp over the program [rad], 2 µrad bins (2.8 µm at the plane) over ±250 µrad (±0.35 mm);
   /// beyond, counted as under/overflow
   Histogram angle_error_x{-250e-6, 250e-6, 250};
   Histogram angle_error_y{-250e-6, 250e-6, 250};
   Histogram mark_speed_ratio{0.0, 1.5, 150};  ///< actual speed / programmed speed, laser-on mark samples
-  double mark_speed_mean_ratio = NAN;   ///< mean of the ratio over laser-on mark samples (NaN: none)
-  std::size_t memory_bytes = 0;         ///< largest memory of these trackers (path, index, grids, timeline copy) [bytes]
+  double mark_speed_mean_ratio = NAN;         ///< mean of the ratio over laser-on mark samples (NaN: none)
+  std::size_t memory_bytes = 0;  ///< largest memory of these trackers (path, index, grids, timeline copy) [bytes]
 };
 
 /// \brief Streams the spot chunks against the NC program's ideal timeline and measures the layer.
@@ -92,7 +92,7 @@ public:
 private:
   enum class Kind : std::uint8_t
   {
-    None,     ///< after the program (tail)
+    None,  ///< after the program (tail)
     Contour,
     Hatch,
     Jump
@@ -126,9 +126,9 @@ private:
   std::uint64_t ring_first_ = 0;
   std::uint64_t next_index_ = 0;
   bool started_ = false;
-  ChunkSequencer sequence_;  ///< which samples are new, where the stream broke
+  ChunkSequencer sequence_;           ///< which samples are new, where the stream broke
   std::uint64_t window_samples_ = 0;  ///< N: the same-instant search half-width [samples]
-  std::uint64_t next_command_ = 0;  ///< first commanded point not evaluated yet by (b)
+  std::uint64_t next_command_ = 0;    ///< first commanded point not evaluated yet by (b)
   double speed_ratio_sum_ = 0.0, speed_samples_ = 0.0;
 };
 }  // namespace scanhead

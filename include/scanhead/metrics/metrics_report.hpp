@@ -5,9 +5,9 @@
 
 #include <string>
 
+#include "scanhead/metrics/run_metrics.hpp"
 #include "scanhead/nc/nc_config.hpp"
 #include "scanhead/nc/nc_stats.hpp"
-#include "scanhead/metrics/run_metrics.hpp"
 
 namespace scanhead
 {

@@ -70,7 +70,7 @@ public:
 private:
   struct Grid
   {
-    double x0 = 0, y0 = 0;      ///< lower-left corner of cell (0, 0) [m]
+    double x0 = 0, y0 = 0;  ///< lower-left corner of cell (0, 0) [m]
     double cell_m = 1, inv_cell = 1;
     std::uint32_t nx = 1, ny = 1;
     double rx0 = 0, ry0 = 0, rx1 = 0, ry1 = 0;  ///< box holding the parts of the segments it indexes [m]
@@ -90,7 +90,7 @@ private:
   std::size_t path_points_ = 0;
   std::size_t indexed_segments_ = 0;
   std::size_t largest_leaf_ = 0;
-  std::size_t duplicate_budget_ = 0;   ///< ids refinements may still add beyond their input
+  std::size_t duplicate_budget_ = 0;  ///< ids refinements may still add beyond their input
   std::vector<Grid> grids_;
   std::vector<std::uint32_t> offsets_;  ///< per grid: nx·ny + 1 offsets into items_
   std::vector<std::uint32_t> items_;    ///< segment ids (bit 30: zero length) or bit 31 | child grid

@@ -53,10 +53,7 @@ public:
   }
 
   /// \brief True if a segment joins point i to point i + 1 (false for the last point and beyond).
-  bool joinsNext(std::size_t i) const
-  {
-    return i + 1 < size() && ((break_after_[i >> 6] >> (i & 63)) & 1u) == 0;
-  }
+  bool joinsNext(std::size_t i) const { return i + 1 < size() && ((break_after_[i >> 6] >> (i & 63)) & 1u) == 0; }
 
   /// \brief Bytes held (capacity of the arrays plus the object).
   std::size_t memoryBytes() const;

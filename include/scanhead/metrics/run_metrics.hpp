@@ -8,17 +8,17 @@
 
 #include "scanhead/common/chunk.hpp"
 #include "scanhead/common/chunk_sequencer.hpp"
-#include "scanhead/metrics/layer_quality.hpp"
-#include "scanhead/thermal/thermal_results.hpp"
-#include "scanhead/nc/nc_stats.hpp"
 #include "scanhead/job/scan_job.hpp"
+#include "scanhead/metrics/layer_quality.hpp"
+#include "scanhead/nc/nc_stats.hpp"
+#include "scanhead/thermal/thermal_results.hpp"
 
 namespace scanhead
 {
 struct CornerPathStats
 {
-  double min_speed_mps = 0.0;       ///< lowest tangential speed near the corner [m/s]
-  double max_contour_error_m = 0.0; ///< distance from the commanded corner to the path [m]
+  double min_speed_mps = 0.0;        ///< lowest tangential speed near the corner [m/s]
+  double max_contour_error_m = 0.0;  ///< distance from the commanded corner to the path [m]
 };
 
 struct CornerReport
@@ -27,50 +27,52 @@ struct CornerReport
   CornerPathStats setpoint;  ///< Q_filt2 through the direct model
   CornerPathStats actual;    ///< after the servo
   CornerPathStats theory;    ///< NC §3.2–3.3 closed forms
-  double energy_peak_jpm2 = 0.0;  ///< max E on the map within (actual contour error + spot radius) of the commanded corner [J/m²]
+  double energy_peak_jpm2 =
+      0.0;  ///< max E on the map within (actual contour error + spot radius) of the commanded corner [J/m²]
 };
 
 struct RunMetrics
 {
   std::string job_name;
   std::uint64_t samples = 0;
-  std::uint64_t dropped_samples = 0;   ///< samples missing from the stream (gaps between chunks)
-  double duration_s = 0.0;             ///< samples · Ts
+  std::uint64_t dropped_samples = 0;  ///< samples missing from the stream (gaps between chunks)
+  double duration_s = 0.0;            ///< samples · Ts
   double laser_on_time_s = 0.0;
-  double commanded_energy_j = 0.0;     ///< Σ P·Ts
-  double deposited_energy_j = 0.0;     ///< Σ map · pixel²
+  double commanded_energy_j = 0.0;  ///< Σ P·Ts
+  double deposited_energy_j = 0.0;  ///< Σ map · pixel²
   double energy_outside_map_j = 0.0;
   double peak_energy_density_jpm2 = 0.0;
-  NcProgramStats nc_program;              ///< what the NC changed in the job (recipe cap, delays, skywriting)
-  double nc_speed_cap_mps = 0.0;          ///< cap on every polyline's speed (infinity: none) [m/s]
-  double nc_filter_delay_s = 0.0;         ///< delay of Q_filt2 behind the command [s]
-  double nc_t1_s = 0.0;                   ///< T1 (adaptive: of the fastest knot) [s]
-  double nc_t2_s = 0.0;                   ///< T2 (adaptive: of the fastest knot) [s]
-  std::uint64_t laser_early_samples = 0;  ///< laser on before the spot reached its mark (laser_settling.hpp)
-  std::uint64_t laser_late_samples = 0;   ///< laser on after the spot left its mark
-  double laser_misplaced_energy_j = 0.0;  ///< Σ P·Ts of the early and late samples [J]
+  NcProgramStats nc_program;                 ///< what the NC changed in the job (recipe cap, delays, skywriting)
+  double nc_speed_cap_mps = 0.0;             ///< cap on every polyline's speed (infinity: none) [m/s]
+  double nc_filter_delay_s = 0.0;            ///< delay of Q_filt2 behind the command [s]
+  double nc_t1_s = 0.0;                      ///< T1 (adaptive: of the fastest knot) [s]
+  double nc_t2_s = 0.0;                      ///< T2 (adaptive: of the fastest knot) [s]
+  std::uint64_t laser_early_samples = 0;     ///< laser on before the spot reached its mark (laser_settling.hpp)
+  std::uint64_t laser_late_samples = 0;      ///< laser on after the spot left its mark
+  double laser_misplaced_energy_j = 0.0;     ///< Σ P·Ts of the early and late samples [J]
   std::uint64_t laser_off_path_samples = 0;  ///< laser on, spot farther than the tolerance from every mark
-  double laser_max_off_path_m = 0.0;      ///< largest distance of a laser-on spot to the marks [m]
-  bool track_measured = false;            ///< false: no laser-on sample away from the marks' ends
-  double track_median_jpm2 = 0.0;         ///< straight-track level: median E along the tracks [J/m²]
-  double track_peak_jpm2 = 0.0;           ///< max E along the tracks, ends excluded [J/m²]
-  double track_peak_to_median = 0.0;      ///< corner peak relative to the straight-track level
-  double track_min_to_median = 0.0;       ///< worst dip relative to the straight-track level
+  double laser_max_off_path_m = 0.0;         ///< largest distance of a laser-on spot to the marks [m]
+  bool track_measured = false;               ///< false: no laser-on sample away from the marks' ends
+  double track_median_jpm2 = 0.0;            ///< straight-track level: median E along the tracks [J/m²]
+  double track_peak_jpm2 = 0.0;              ///< max E along the tracks, ends excluded [J/m²]
+  double track_peak_to_median = 0.0;         ///< corner peak relative to the straight-track level
+  double track_min_to_median = 0.0;          ///< worst dip relative to the straight-track level
   Eigen::Vector2d track_peak_point_m = Eigen::Vector2d::Zero();  ///< where the peak is [m]
-  double track_mean_jpm2 = 0.0;           ///< mean E along the tracks, ends excluded [J/m²]
-  std::uint64_t track_stride = 1;         ///< every track_stride-th laser-on sample was sampled (bounded memory)
+  double track_mean_jpm2 = 0.0;                                  ///< mean E along the tracks, ends excluded [J/m²]
+  std::uint64_t track_stride = 1;              ///< every track_stride-th laser-on sample was sampled (bounded memory)
   double corner_peak_to_track_mean = 0.0;      ///< mean over the corners of energy_peak / track mean
   double corner_peak_to_track_mean_max = 0.0;  ///< the largest of them
-  std::uint64_t map_tiles = 0;            ///< energy-map tiles the spot touched (64 × 64 pixels)
-  std::uint64_t map_tiles_spilled = 0;    ///< of which written to the spill file at least once
-  std::uint64_t map_spill_file_bytes = 0; ///< disk the spill file took (16 KiB per spilled tile)
-  std::size_t peak_memory_bytes = 0;      ///< the energy stage's data at its largest: resident tiles and directory, path, index, grids, track [bytes]
-  LayerQualityReport quality;             ///< contour errors, fill rate, angle errors, speed, layer time
-  bool thermal_enabled = false;           ///< the thermal view ran (thermal.enabled)
-  std::uint64_t thermal_samples = 0;      ///< samples of its time window
-  MeltPoolStats thermal_melt_pool;        ///< melt-pool length, width and peak temperature
-  ThermalEnergy thermal_energy;           ///< its energy books [J]
-  double thermal_melted_area_m2 = 0.0;    ///< cells melted at least once [m²]
+  std::uint64_t map_tiles = 0;                 ///< energy-map tiles the spot touched (64 × 64 pixels)
+  std::uint64_t map_tiles_spilled = 0;         ///< of which written to the spill file at least once
+  std::uint64_t map_spill_file_bytes = 0;      ///< disk the spill file took (16 KiB per spilled tile)
+  std::size_t peak_memory_bytes =
+      0;  ///< the energy stage's data at its largest: resident tiles and directory, path, index, grids, track [bytes]
+  LayerQualityReport quality;           ///< contour errors, fill rate, angle errors, speed, layer time
+  bool thermal_enabled = false;         ///< the thermal view ran (thermal.enabled)
+  std::uint64_t thermal_samples = 0;    ///< samples of its time window
+  MeltPoolStats thermal_melt_pool;      ///< melt-pool length, width and peak temperature
+  ThermalEnergy thermal_energy;         ///< its energy books [J]
+  double thermal_melted_area_m2 = 0.0;  ///< cells melted at least once [m²]
   std::vector<CornerReport> corners;
 };
 
@@ -113,19 +115,19 @@ private:
   {
     double delay_s = 0.0;
     Eigen::Vector2d SpotSample::*position = nullptr;  ///< which field of SpotSample is this path
-    std::size_t lo = 0;                                ///< sorted corners before lo are closed
-    std::vector<CornerPathStats> stats;                ///< by sorted position; +inf until touched
+    std::size_t lo = 0;                               ///< sorted corners before lo are closed
+    std::vector<CornerPathStats> stats;               ///< by sorted position; +inf until touched
   };
   void advance(Track& track, std::uint64_t index, const SpotSample& sample);
 
-  std::vector<Corner> corners_;           ///< as given
-  std::vector<std::size_t> order_;        ///< corners_ indices sorted by time_s (stable)
-  std::vector<double> start_s_, end_s_;   ///< windows, sorted order [s]
-  std::vector<double> max_end_s_;         ///< prefix max of end_s_ [s]
-  std::vector<double> min_start_s_;       ///< suffix min of start_s_ [s]
+  std::vector<Corner> corners_;          ///< as given
+  std::vector<std::size_t> order_;       ///< corners_ indices sorted by time_s (stable)
+  std::vector<double> start_s_, end_s_;  ///< windows, sorted order [s]
+  std::vector<double> max_end_s_;        ///< prefix max of end_s_ [s]
+  std::vector<double> min_start_s_;      ///< suffix min of start_s_ [s]
   Track setpoint_, actual_;
-  int history_ = 0;                 ///< valid entries of prev_ (0..2), contiguous indices
-  SpotSample prev_[2];              ///< prev_[1]: the last sample taken, prev_[0]: the one before
+  int history_ = 0;     ///< valid entries of prev_ (0..2), contiguous indices
+  SpotSample prev_[2];  ///< prev_[1]: the last sample taken, prev_[0]: the one before
   ChunkSequencer sequence_;
   double period_s_ = 0.0;
 };
@@ -144,9 +146,9 @@ public:
   void process(const SpotChunk& chunk);
   std::uint64_t samples() const { return sequence_.taken(); }
   std::uint64_t dropped() const { return sequence_.missing() + sequence_.repeated(); }
-  double laserOnTime() const { return laser_on_s_; }     ///< Σ Ts over samples with power > 0 [s]
-  double commandedEnergy() const { return energy_j_; }   ///< Σ P·Ts [J]
-  double period() const { return period_s_; }            ///< Ts of the last chunk [s]
+  double laserOnTime() const { return laser_on_s_; }    ///< Σ Ts over samples with power > 0 [s]
+  double commandedEnergy() const { return energy_j_; }  ///< Σ P·Ts [J]
+  double period() const { return period_s_; }           ///< Ts of the last chunk [s]
 
 private:
   ChunkSequencer sequence_;

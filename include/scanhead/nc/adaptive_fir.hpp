@@ -66,10 +66,10 @@ class AdaptiveFir
 public:
   struct Knot
   {
-    double t_s = 0.0;                                   ///< knot time on the path timeline [s]
+    double t_s = 0.0;                                    ///< knot time on the path timeline [s]
     Eigen::Vector2d step_mps = Eigen::Vector2d::Zero();  ///< Δv_k [m/s]
-    double local_speed_mps = 0.0;                       ///< V_k [m/s]
-    FilterDurations durations;                          ///< (T1_k, T2_k), lengthened if kernels overlapped
+    double local_speed_mps = 0.0;                        ///< V_k [m/s]
+    FilterDurations durations;                           ///< (T1_k, T2_k), lengthened if kernels overlapped
   };
 
   /// \brief Where to resume; one per monotone reader (amortised O(active knots) per call).
@@ -99,13 +99,13 @@ private:
   struct Kernel
   {
     Eigen::Vector2d step_mps = Eigen::Vector2d::Zero();  ///< Δv_k [m/s]
-    double t_s = 0.0;        ///< t_k [s]
-    double half_s = 0.0;     ///< h = (T1 + T2)/2 [s]
-    double plateau_s = 0.0;  ///< a = (T1 − T2)/2 [s]
-    double half_t1_s = 0.0;  ///< T1/2 [s]
-    double t2_s = 0.0;       ///< T2 [s]
-    double inv_t1 = 0.0;     ///< 1/T1 [1/s]
-    double inv_t1t2 = 0.0;   ///< 1/(T1·T2) [1/s²] (0 if T2 = 0: never used then)
+    double t_s = 0.0;                                    ///< t_k [s]
+    double half_s = 0.0;                                 ///< h = (T1 + T2)/2 [s]
+    double plateau_s = 0.0;                              ///< a = (T1 − T2)/2 [s]
+    double half_t1_s = 0.0;                              ///< T1/2 [s]
+    double t2_s = 0.0;                                   ///< T2 [s]
+    double inv_t1 = 0.0;                                 ///< 1/T1 [1/s]
+    double inv_t1t2 = 0.0;                               ///< 1/(T1·T2) [1/s²] (0 if T2 = 0: never used then)
   };
 
   PlaneState evaluate(double t_s, Cursor& cursor, bool first_stage) const;

@@ -14,10 +14,10 @@ namespace scanhead
 /// polygon holds with mark = true) on [burst_start_s, burst_end_s), lit on [on_s, off_s).
 struct LaserWindow
 {
-  double burst_start_s = 0.0;  ///< the NC starts marking [s]
-  double burst_end_s = 0.0;    ///< the NC stops marking [s]
-  double on_s = 0.0;           ///< burst_start + laser-on delay [s]
-  double off_s = 0.0;          ///< burst_end + laser-off delay [s]
+  double burst_start_s = 0.0;     ///< the NC starts marking [s]
+  double burst_end_s = 0.0;       ///< the NC stops marking [s]
+  double on_s = 0.0;              ///< burst_start + laser-on delay [s]
+  double off_s = 0.0;             ///< burst_end + laser-off delay [s]
   std::size_t first_segment = 0;  ///< first segment of the burst
   std::size_t end_segment = 0;    ///< one past its last segment
 };

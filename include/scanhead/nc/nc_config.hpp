@@ -10,9 +10,9 @@ namespace scanhead
 /// \brief The inverse geometric transform (SPEC §2.2).
 struct IgtConfig
 {
-  std::string mode = "newton";            ///< "newton": exact inverse; "table": correction table
-  std::string table_file;                 ///< table to load (correction_table.hpp); "": built from the optics
-  int table_nodes = 65;                   ///< nodes per axis of a built table (THESIS §2.3.2.2: 65)
+  std::string mode = "newton";                   ///< "newton": exact inverse; "table": correction table
+  std::string table_file;                        ///< table to load (correction_table.hpp); "": built from the optics
+  int table_nodes = 65;                          ///< nodes per axis of a built table (THESIS §2.3.2.2: 65)
   std::string table_interpolation = "bilinear";  ///< "bilinear" (THESIS) | "bicubic" (< 1 µm)
 
   void validate() const;
@@ -24,9 +24,10 @@ struct IgtConfig
 struct SkywritingConfig
 {
   bool enabled = false;
-  double run_in_m = 0.0;        ///< run-in before a corner or a mark's start [m]
-  double run_in_s = 300.0e-6;   ///< run-in as a time at the mark speed [s] (> (T1 + T2)/2: full speed at the laser switch)
-  double run_out_m = 0.0;       ///< run-out after a corner or a mark's end [m]
+  double run_in_m = 0.0;  ///< run-in before a corner or a mark's start [m]
+  double run_in_s =
+      300.0e-6;            ///< run-in as a time at the mark speed [s] (> (T1 + T2)/2: full speed at the laser switch)
+  double run_out_m = 0.0;  ///< run-out after a corner or a mark's end [m]
   double run_out_s = 300.0e-6;  ///< run-out as a time at the mark speed [s]
   double min_angle_deg = 30.0;  ///< corners turning by more than this are skywritten [deg]
 
@@ -35,13 +36,13 @@ struct SkywritingConfig
 
 struct NcConfig
 {
-  double period_s = 1.0e-5;               ///< Ts, NC sample period [s]
-  double fir_t1_s = 260.0e-6;             ///< first box FIR duration [s] (NC §2.2, measured)
-  double fir_t2_s = 125.0e-6;             ///< second box FIR duration [s]
-  double max_joint_speed_radps = 25.0;    ///< velocity saturation between the FIRs [rad/s]
-  double implicit_jump_speed_mps = 4.5;   ///< speed of jumps inserted between non-contiguous polylines [m/s]
-  double tail_s = 3.0e-3;                 ///< hold time after the path so filters and servos settle [s]
-  bool debug = false;                     ///< also produce Q_inter / Q_filt1 (nc/debug)
+  double period_s = 1.0e-5;              ///< Ts, NC sample period [s]
+  double fir_t1_s = 260.0e-6;            ///< first box FIR duration [s] (NC §2.2, measured)
+  double fir_t2_s = 125.0e-6;            ///< second box FIR duration [s]
+  double max_joint_speed_radps = 25.0;   ///< velocity saturation between the FIRs [rad/s]
+  double implicit_jump_speed_mps = 4.5;  ///< speed of jumps inserted between non-contiguous polylines [m/s]
+  double tail_s = 3.0e-3;                ///< hold time after the path so filters and servos settle [s]
+  bool debug = false;                    ///< also produce Q_inter / Q_filt1 (nc/debug)
 
   IgtConfig igt;
 
@@ -54,18 +55,18 @@ struct NcConfig
   /// g = 0.716 rad/m, the largest joint rate per plane speed over the field (Y axis, centre).
   double max_joint_accel_radps2 = 3.3e4;
   double max_joint_jerk_radps3 = 5.29e8;
-  bool cap_speeds = false;                ///< fixed filters: slow polylines whose speed would break the limits
+  bool cap_speeds = false;  ///< fixed filters: slow polylines whose speed would break the limits
 
-  double mark_delay_s = 0.0;      ///< hold at the end of a MARK polyline before what follows [s]
-  double jump_delay_s = 0.0;      ///< hold at the end of a jump before what follows [s]
-  double polygon_delay_s = 0.0;   ///< hold at each corner inside a MARK polyline, laser on [s]
+  double mark_delay_s = 0.0;                 ///< hold at the end of a MARK polyline before what follows [s]
+  double jump_delay_s = 0.0;                 ///< hold at the end of a jump before what follows [s]
+  double polygon_delay_s = 0.0;              ///< hold at each corner inside a MARK polyline, laser on [s]
   std::string polygon_delay_mode = "fixed";  ///< "fixed" | "angle" (scaled by turn angle / 180°)
   SkywritingConfig skywriting;
 
   /// "constant" | "speed": P·clamp(v / v_prog, floor, 1) with v the filtered path's speed |Ẋ_filt2|
   /// (NC §5) | "predicted": v the actual path's, predicted by the servo model run on the setpoint
   std::string power_mode = "constant";
-  double power_floor = 0.2;             ///< lowest power fraction in "speed" mode, in [0, 1]
+  double power_floor = 0.2;  ///< lowest power fraction in "speed" mode, in [0, 1]
 
   int quantisation_bits = 0;  ///< XY2-100 setpoint word: 0 (off), 16, 18 or 20 bits over the joint range
 

@@ -53,13 +53,13 @@
 #include <memory>
 
 #include "scanhead/common/chunk.hpp"
+#include "scanhead/job/recipe.hpp"
+#include "scanhead/job/scan_job.hpp"
 #include "scanhead/nc/nc_config.hpp"
 #include "scanhead/nc/nc_plan.hpp"
 #include "scanhead/nc/nc_program.hpp"
 #include "scanhead/nc/nc_stats.hpp"
 #include "scanhead/optics/optical_model.hpp"
-#include "scanhead/job/recipe.hpp"
-#include "scanhead/job/scan_job.hpp"
 #include "scanhead/servo/servo_config.hpp"
 
 namespace scanhead
@@ -113,9 +113,9 @@ private:
   Recipe recipe_;
   const OpticalModel& optics_;
   std::unique_ptr<Igt> igt_;
-  std::unique_ptr<ServoConfig> servo_model_;  ///< power_mode "predicted" only
+  std::unique_ptr<ServoConfig> servo_model_;                         ///< power_mode "predicted" only
   double servo_delay_s_ = std::numeric_limits<double>::quiet_NaN();  ///< of the servo model, if given (NcPlan)
-  Eigen::Vector2d joint_gains_ = Eigen::Vector2d::Zero();  ///< rad/m, computed when the limits are used
+  Eigen::Vector2d joint_gains_ = Eigen::Vector2d::Zero();            ///< rad/m, computed when the limits are used
   std::unique_ptr<State> state_;
   NcStats empty_stats_;
 };

@@ -26,14 +26,14 @@ namespace scanhead
 struct NcPlan
 {
   std::string job_name;
-  NcProgram program;            ///< timeline X_inter follows, laser gate on it, builder counts
-  double period_s = 0.0;        ///< sample period T_s [s]
+  NcProgram program;                ///< timeline X_inter follows, laser gate on it, builder counts
+  double period_s = 0.0;            ///< sample period T_s [s]
   std::uint64_t total_samples = 0;  ///< N above
-  double speed_cap_mps = 0.0;   ///< cap applied to every polyline (infinity: none) [m/s]
-  double filter_delay_s = 0.0;  ///< delay D of Q_filt2 behind the command: (T1+T2)/2 or the adaptive D [s]
-  double gate_shift_s = 0.0;    ///< D − (T1+T2)/2: the laser gate follows the filters by it [s]
-  double longest_t1_s = 0.0;    ///< adaptive: T1 of the fastest knot (fixed: T1) [s]
-  double longest_t2_s = 0.0;    ///< adaptive: T2 of the fastest knot (fixed: T2) [s]
+  double speed_cap_mps = 0.0;       ///< cap applied to every polyline (infinity: none) [m/s]
+  double filter_delay_s = 0.0;      ///< delay D of Q_filt2 behind the command: (T1+T2)/2 or the adaptive D [s]
+  double gate_shift_s = 0.0;        ///< D − (T1+T2)/2: the laser gate follows the filters by it [s]
+  double longest_t1_s = 0.0;        ///< adaptive: T1 of the fastest knot (fixed: T1) [s]
+  double longest_t2_s = 0.0;        ///< adaptive: T2 of the fastest knot (fixed: T2) [s]
   Eigen::Vector2d start_joints_rad = Eigen::Vector2d::Zero();  ///< IGT of the start point (rest) [rad]
   /// \brief Low-frequency delay of the servo behind its setpoint, the larger of the two axes [s]
   /// (GalvoServo::lowFrequencyDelay); NaN when the NC was given no servo model.

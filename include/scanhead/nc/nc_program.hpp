@@ -6,24 +6,24 @@
 #include <cstddef>
 #include <limits>
 
-#include "scanhead/nc/laser_gate.hpp"
-#include "scanhead/nc/nc_config.hpp"
-#include "scanhead/nc/nc_stats.hpp"
 #include "scanhead/job/path_timeline.hpp"
 #include "scanhead/job/recipe.hpp"
 #include "scanhead/job/scan_job.hpp"
+#include "scanhead/nc/laser_gate.hpp"
+#include "scanhead/nc/nc_config.hpp"
+#include "scanhead/nc/nc_stats.hpp"
 
 namespace scanhead
 {
 struct NcProgramOptions
 {
-  Recipe recipe;                          ///< speeds, powers (if override_job), laser on/off delays
-  double implicit_jump_speed_mps = 4.5;   ///< jumps inserted between non-contiguous polylines [m/s]
+  Recipe recipe;                         ///< speeds, powers (if override_job), laser on/off delays
+  double implicit_jump_speed_mps = 4.5;  ///< jumps inserted between non-contiguous polylines [m/s]
   double speed_cap_mps = std::numeric_limits<double>::infinity();  ///< every polyline at most this [m/s]
-  double mark_delay_s = 0.0;              ///< hold after each MARK polyline, laser off [s]
-  double jump_delay_s = 0.0;              ///< hold after each jump (explicit or implicit), laser off [s]
-  double polygon_delay_s = 0.0;           ///< hold at each corner inside a MARK polyline, laser on [s]
-  bool polygon_delay_by_angle = false;    ///< scale the polygon delay by turn angle / 180°
+  double mark_delay_s = 0.0;                                       ///< hold after each MARK polyline, laser off [s]
+  double jump_delay_s = 0.0;            ///< hold after each jump (explicit or implicit), laser off [s]
+  double polygon_delay_s = 0.0;         ///< hold at each corner inside a MARK polyline, laser on [s]
+  bool polygon_delay_by_angle = false;  ///< scale the polygon delay by turn angle / 180°
   SkywritingConfig skywriting;
 
   /// \brief The options of an NcConfig and a recipe.
@@ -32,8 +32,8 @@ struct NcProgramOptions
 
 struct NcProgram
 {
-  PathTimeline timeline;  ///< what X_inter follows
-  LaserGate gate;         ///< laser power on the command timeline
+  PathTimeline timeline;           ///< what X_inter follows
+  LaserGate gate;                  ///< laser power on the command timeline
   double laser_on_delay_s = 0.0;   ///< the gate's laser-on delay [s]
   double laser_off_delay_s = 0.0;  ///< the gate's laser-off delay [s]
   NcProgramStats stats;

@@ -19,7 +19,10 @@ public:
   /// \param[in] period_s  Ts > 0 [s]
   /// \throws ConfigError if either is not finite and > 0
   RateLimiter(double max_rate, double period_s);
-  RateLimiter() : RateLimiter(1.0, 1e-5) {}
+  RateLimiter()
+    : RateLimiter(1.0, 1e-5)
+  {
+  }
 
   /// \brief The output starts at rest at \p initial.
   void reset(const Eigen::Vector2d& initial) { value_ = initial; }

@@ -8,7 +8,8 @@
 /// starting from the nominal machine (δ = 0). Data: N spots x_k measured at commanded angles θ_k.
 /// Residuals, 2N of them [m]:
 /// \f[ r_k(\delta) = h_\delta(\theta_k) - x_k, \qquad
-///     h_\delta = \mathrm{OpticalModel}(\mathrm{applyDefects}(\mathrm{nominal}, \delta)).\mathrm{trace}(\theta).\mathrm{spot} \f]
+///     h_\delta = \mathrm{OpticalModel}(\mathrm{applyDefects}(\mathrm{nominal},
+///     \delta)).\mathrm{trace}(\theta).\mathrm{spot} \f]
 /// (the full non-linear ray trace, no linearisation).
 ///
 /// \par Jacobian
@@ -200,14 +201,15 @@ struct SpotMeasurement
 /// \brief Spots of \p machine at \p angles plus independent Gaussian noise of standard deviation
 /// \p noise_m per coordinate (portable generator seeded by \p seed: same on every platform).
 /// \throws ConfigError if noise_m is negative or not finite
-std::vector<SpotMeasurement> simulateMeasurements(const OpticalModel& machine, const std::vector<Eigen::Vector2d>& angles,
-                                                  double noise_m, std::uint64_t seed);
+std::vector<SpotMeasurement> simulateMeasurements(const OpticalModel& machine,
+                                                  const std::vector<Eigen::Vector2d>& angles, double noise_m,
+                                                  std::uint64_t seed);
 
 struct CalibrationOptions
 {
   int max_iterations = 50;
-  double rank_tolerance = 1e-6;   ///< singular values below this × the largest are not identifiable
-  double noise_m = 1e-6;          ///< measurement noise assumed for the uncertainties [m]
+  double rank_tolerance = 1e-6;  ///< singular values below this × the largest are not identifiable
+  double noise_m = 1e-6;         ///< measurement noise assumed for the uncertainties [m]
 };
 
 struct CalibrationResult
@@ -219,7 +221,7 @@ struct CalibrationResult
   /// The unidentifiable combinations: unit null-space vectors of the Jacobian as text, e.g.
   /// "0.71 source.y - 0.71 work_plane.y" (moving along them leaves every spot unchanged).
   std::vector<std::string> null_space;
-  double rms_residual_m = 0.0;                 ///< fit residual over the measurements [m]
+  double rms_residual_m = 0.0;  ///< fit residual over the measurements [m]
   double max_residual_m = 0.0;
   int iterations = 0;
   bool converged = false;

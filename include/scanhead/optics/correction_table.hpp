@@ -104,10 +104,10 @@ private:
   /// One node: angles and their derivatives w.r.t. the spot (one 64-byte cache line).
   struct Node
   {
-    double q[2] = { 0.0, 0.0 };     ///< (q_x, q_y) [rad]
-    double q_x[2] = { 0.0, 0.0 };   ///< ∂q/∂x [rad/m] (exact: first column of J⁻¹)
-    double q_y[2] = { 0.0, 0.0 };   ///< ∂q/∂y [rad/m] (exact: second column of J⁻¹)
-    double q_xy[2] = { 0.0, 0.0 };  ///< ∂²q/∂x∂y [rad/m²] (differenced over the grid)
+    double q[2] = {0.0, 0.0};     ///< (q_x, q_y) [rad]
+    double q_x[2] = {0.0, 0.0};   ///< ∂q/∂x [rad/m] (exact: first column of J⁻¹)
+    double q_y[2] = {0.0, 0.0};   ///< ∂q/∂y [rad/m] (exact: second column of J⁻¹)
+    double q_xy[2] = {0.0, 0.0};  ///< ∂²q/∂x∂y [rad/m²] (differenced over the grid)
   };
 
   /// Sets n, h, the spacing and n² zero nodes.
@@ -127,10 +127,10 @@ private:
 /// \brief Interpolation error of a table against the optics, over a dense probe grid.
 struct TableErrorReport
 {
-  double max_error_m = 0.0;   ///< max |h(q_table(x)) − x| over the probes [m], h the direct model
-  double rms_error_m = 0.0;   ///< RMS of the same [m]
+  double max_error_m = 0.0;  ///< max |h(q_table(x)) − x| over the probes [m], h the direct model
+  double rms_error_m = 0.0;  ///< RMS of the same [m]
   Eigen::Vector2d worst_point_m = Eigen::Vector2d::Zero();  ///< where the max is [m]
-  int probes_per_axis = 0;    ///< probes x_k = −h + k·2h/(p−1) in each axis
+  int probes_per_axis = 0;                                  ///< probes x_k = −h + k·2h/(p−1) in each axis
 };
 
 /// \brief Error of \p table with \p interpolation: each probe x goes through the table, then the

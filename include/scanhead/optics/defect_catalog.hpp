@@ -68,8 +68,8 @@ constexpr std::size_t kDefectCount = 30;
 /// \brief One of the 30 defects: element (YAML key) and component in the OPT convention.
 struct DefectComponent
 {
-  const char* element;    ///< source, axis_x, mirror_x, axis_y, mirror_y, window_1, window_2, work_plane
-  char component;         ///< x, y, z (translation, mm) or a, b, c (rotation about x, y, z, mrad)
+  const char* element;  ///< source, axis_x, mirror_x, axis_y, mirror_y, window_1, window_2, work_plane
+  char component;       ///< x, y, z (translation, mm) or a, b, c (rotation about x, y, z, mrad)
   bool rotation() const { return component == 'a' || component == 'b' || component == 'c'; }
 };
 

@@ -32,13 +32,13 @@ std::vector<Eigen::Vector2d> fieldAngleGrid(const OpticalModel& nominal, int gri
 
 struct InfluenceRow
 {
-  std::size_t defect = 0;                              ///< index in defectComponents()
-  double unit = 1.0;                                   ///< the defect's value: 1 mm or 1 mrad
-  Eigen::Vector2d shift_m = Eigen::Vector2d::Zero();   ///< I at θ = 0 (the global shift) [m]
+  std::size_t defect = 0;                                     ///< index in defectComponents()
+  double unit = 1.0;                                          ///< the defect's value: 1 mm or 1 mrad
+  Eigen::Vector2d shift_m = Eigen::Vector2d::Zero();          ///< I at θ = 0 (the global shift) [m]
   Eigen::Vector2d nonlinear_min_m = Eigen::Vector2d::Zero();  ///< min over the field of I − I(0), per axis [m]
   Eigen::Vector2d nonlinear_max_m = Eigen::Vector2d::Zero();  ///< max over the field of I − I(0), per axis [m]
-  double nonlinear_m = 0.0;                            ///< max over the field of |I − I(0)| [m]
-  double max_m = 0.0;                                  ///< max over the field of |I| [m]
+  double nonlinear_m = 0.0;                                   ///< max over the field of |I − I(0)| [m]
+  double max_m = 0.0;                                         ///< max over the field of |I| [m]
 };
 
 /// \brief One row per defect (OPT table order), each defect alone at 1 mm or 1 mrad, on the
@@ -71,7 +71,8 @@ struct DefectField
   std::vector<Eigen::Vector2d> displacement_m;  ///< h_δ(θ) − h(θ)
   int grid = 0;
 };
-DefectField defectField(const OpticalGeometry& nominal, const OpticsConfig& config, const DefectSet& set, int grid = 21);
+DefectField defectField(const OpticalGeometry& nominal, const OpticsConfig& config, const DefectSet& set,
+                        int grid = 21);
 
 /// \brief The table as YAML (mm and µm at the user edge: `label`, `unit`, `shift_mm`,
 /// `nonlinear_min_um`, `nonlinear_max_um`, `nonlinear_um`, `max_mm`).

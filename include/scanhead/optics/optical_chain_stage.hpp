@@ -11,7 +11,10 @@ namespace scanhead
 class OpticalChainStage
 {
 public:
-  explicit OpticalChainStage(const OpticalModel& optics) : optics_(optics) {}
+  explicit OpticalChainStage(const OpticalModel& optics)
+    : optics_(optics)
+  {
+  }
 
   /// \pre the three chunks cover the same samples (same first_index, size and period)
   /// \throws std::invalid_argument if they do not

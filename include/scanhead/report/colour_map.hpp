@@ -18,10 +18,10 @@ std::array<std::uint8_t, 3> inferno(double t);
 /// \brief Layout of renderEnergyMap().
 struct EnergyImageLayout
 {
-  int map_width = 0;   ///< columns of the map part (the image starts with it) [px]
-  int bar_x0 = 0;      ///< first column of the colour bar [px]
-  int bar_width = 0;   ///< [px]
-  int block = 1;       ///< map pixels per image pixel along each axis (block maximum)
+  int map_width = 0;  ///< columns of the map part (the image starts with it) [px]
+  int bar_x0 = 0;     ///< first column of the colour bar [px]
+  int bar_width = 0;  ///< [px]
+  int block = 1;      ///< map pixels per image pixel along each axis (block maximum)
 };
 
 /// \brief Renders an energy map with inferno, +y up (row 0 of the image is the map's top row),

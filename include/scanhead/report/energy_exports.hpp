@@ -8,8 +8,8 @@
 
 #include "scanhead/energy/energy_config.hpp"
 #include "scanhead/energy/map_regions.hpp"
-#include "scanhead/job/scan_job.hpp"
 #include "scanhead/energy/tiled_energy_map.hpp"
+#include "scanhead/job/scan_job.hpp"
 
 namespace scanhead
 {

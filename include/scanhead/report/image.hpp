@@ -16,14 +16,14 @@ struct RgbImage
   std::vector<std::uint8_t> rgb;  ///< size 3·width·height
 
   RgbImage() = default;
-  RgbImage(int w, int h) : width(w), height(h), rgb(3 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0)
+  RgbImage(int w, int h)
+    : width(w)
+    , height(h)
+    , rgb(3 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0)
   {
   }
   std::uint8_t* pixel(int x, int y) { return rgb.data() + 3 * (static_cast<std::size_t>(y) * width + x); }
-  const std::uint8_t* pixel(int x, int y) const
-  {
-    return rgb.data() + 3 * (static_cast<std::size_t>(y) * width + x);
-  }
+  const std::uint8_t* pixel(int x, int y) const { return rgb.data() + 3 * (static_cast<std::size_t>(y) * width + x); }
 };
 
 /// \brief 16-bit gray image; rows top to bottom.
@@ -34,7 +34,10 @@ struct Gray16Image
   std::vector<std::uint16_t> gray;  ///< size width·height
 
   Gray16Image() = default;
-  Gray16Image(int w, int h) : width(w), height(h), gray(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0)
+  Gray16Image(int w, int h)
+    : width(w)
+    , height(h)
+    , gray(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0)
   {
   }
   std::uint16_t& at(int x, int y) { return gray[static_cast<std::size_t>(y) * width + x]; }

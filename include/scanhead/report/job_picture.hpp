@@ -7,21 +7,21 @@
 #include <cstdint>
 #include <string>
 
-#include "scanhead/report/image.hpp"
 #include "scanhead/job/scan_job.hpp"
+#include "scanhead/report/image.hpp"
 
 namespace scanhead
 {
 /// \brief Drawing options; the defaults are those of renderJobPicture(job, max_side_px).
 struct JobPictureOptions
 {
-  int margin_px = -1;                   ///< blank border [px]; < 0: max(2, max_side_px / 40)
-  bool show_jumps = true;               ///< draw explicit and implicit jumps
-  bool show_start_points = false;       ///< a dot at the first point of every MARK polyline
-  double mark_width_px = 1.5;           ///< line width of marks [px]
-  double jump_width_px = 1.0;           ///< line width of jumps [px]
-  double jump_dash_px = 4.0;            ///< drawn length of a jump dash [px]; <= 0: solid
-  double jump_gap_px = 3.0;             ///< gap between jump dashes [px]
+  int margin_px = -1;                                     ///< blank border [px]; < 0: max(2, max_side_px / 40)
+  bool show_jumps = true;                                 ///< draw explicit and implicit jumps
+  bool show_start_points = false;                         ///< a dot at the first point of every MARK polyline
+  double mark_width_px = 1.5;                             ///< line width of marks [px]
+  double jump_width_px = 1.0;                             ///< line width of jumps [px]
+  double jump_dash_px = 4.0;                              ///< drawn length of a jump dash [px]; <= 0: solid
+  double jump_gap_px = 3.0;                               ///< gap between jump dashes [px]
   std::array<std::uint8_t, 3> mark_rgb{{20, 40, 150}};    ///< dark blue
   std::array<std::uint8_t, 3> jump_rgb{{170, 170, 170}};  ///< light grey
   std::array<std::uint8_t, 3> start_rgb{{0, 150, 60}};    ///< green
@@ -34,10 +34,10 @@ struct JobPictureOptions
 /// with N = max_side_px and m the margin; the longer side of the picture is N pixels.
 struct JobPictureFrame
 {
-  int width = 0;                 ///< [px]
-  int height = 0;                ///< [px]
-  int margin_px = 0;             ///< [px]
-  double scale_px_per_m = 1.0;   ///< s [px/m]
+  int width = 0;                                    ///< [px]
+  int height = 0;                                   ///< [px]
+  int margin_px = 0;                                ///< [px]
+  double scale_px_per_m = 1.0;                      ///< s [px/m]
   Eigen::Vector2d min_m = Eigen::Vector2d::Zero();  ///< lower-left corner of the job's bounding box [m]
 
   Eigen::Vector2d toPixel(const Eigen::Vector2d& p_m) const

@@ -31,7 +31,8 @@ struct TiffScale
   double pixel_y_m = 0.0;   ///< pixel height [m], finite and > 0
   double x_left_m = 0.0;    ///< model x of the left edge of column 0 [m]
   double y_top_m = 0.0;     ///< model y of the top edge of row 0 [m] (y grows upwards, rows downwards)
-  std::string description;  ///< ImageDescription, 7-bit ASCII without NUL, e.g. "energy density [J/m^2], pixel 5e-06 m"; empty: no tag
+  std::string description;  ///< ImageDescription, 7-bit ASCII without NUL, e.g. "energy density [J/m^2], pixel 5e-06
+                            ///< m"; empty: no tag
 };
 
 /// \brief The TIFF file bytes of a width × height float image.

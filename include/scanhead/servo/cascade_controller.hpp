@@ -17,9 +17,9 @@ namespace scanhead
 ///   \f$y_k = \frac{2\tau_d - T}{2\tau_d + T}y_{k-1} + \frac{2T_d}{2\tau_d + T}(e_k - e_{k-1})\f$;
 /// - feedforward filters \f$1/(1 + \tau_f s)\f$: step-invariant pole \f$a = e^{-T/\tau_f}\f$,
 ///   \f$y_k = a y_{k-1} + (1 - a)x_k\f$ (no ringing whatever T/τf; exact pass-through at τf = 0).
-///   "nc" mode: \f$\omega_{ff} = K_1\,LP(\dot\theta_{ref})\f$, \f$i_{ff} = K_2\frac{J_{eq}}{K_c}LP(LP(\ddot\theta_{ref}))\f$
-///   with the NC's exact derivatives: the THESIS transfer functions, without differentiating a
-///   sampled signal (no half-sample lag, no noise gain). "differentiate" mode: the THESIS's
+///   "nc" mode: \f$\omega_{ff} = K_1\,LP(\dot\theta_{ref})\f$, \f$i_{ff} =
+///   K_2\frac{J_{eq}}{K_c}LP(LP(\ddot\theta_{ref}))\f$ with the NC's exact derivatives: the THESIS transfer functions,
+///   without differentiating a sampled signal (no half-sample lag, no noise gain). "differentiate" mode: the THESIS's
 ///   \f$s/(1 + \tau_f s)\f$ applied to θref, discretised ramp-invariant (first-order-hold equivalent:
 ///   \f$d_k = a d_{k-1} + \frac{1 - a}{T}(\theta_k - \theta_{k-1})\f$, exact on ramps; a backward
 ///   difference at τf = 0), twice for the acceleration.
@@ -31,8 +31,8 @@ namespace scanhead
 ///   the backward difference \f$(i_{ff,k} - i_{ff,k-1})/T\f$ (= the filtered backward difference of the
 ///   NC's acceleration; the continuous derivative in the filter's state, \f$(x - LP(x))/\tau_f\f$, is the
 ///   slope just after the sampled input steps and overshoots: corner errors −25 %/−18 % instead of
-///   −6 %/−1 %). Why: with the pure THESIS structure the current loop lags FFi, the outer loops fight it, θ/θref peaks +7 dB near 1 kHz
-///   and on the NC paper's corner (2 m/s, 53.13°) the actual corner error is 19.8 µm against the
+///   −6 %/−1 %). Why: with the pure THESIS structure the current loop lags FFi, the outer loops fight it, θ/θref peaks
+///   +7 dB near 1 kHz and on the NC paper's corner (2 m/s, 53.13°) the actual corner error is 19.8 µm against the
 ///   setpoint's 62.7 µm, the actual path 108 µm from the setpoint; the NC paper's bench shows the actual
 ///   path ≈ the filtered setpoint. Off: the pure THESIS structure.
 /// - anti-windup: when the voltage saturates (|U| > supply) and the current error drives it
@@ -47,33 +47,33 @@ public:
   /// \param[in] differentiate  true: feedforward from the setpoint's filtered derivatives
   /// \param[in] plant  R, L, Ke (= Kc) of the voltage feedforward
   /// \param[in] voltage_feedforward  add \f$U_{ff}\f$ (false: the pure THESIS structure)
-  CascadeController(const CascadeGains& gains, double jeq_over_kc, double period_s, double supply_v,
-                    bool differentiate, const GalvoPlantParams& plant, bool voltage_feedforward);
+  CascadeController(const CascadeGains& gains, double jeq_over_kc, double period_s, double supply_v, bool differentiate,
+                    const GalvoPlantParams& plant, bool voltage_feedforward);
   /// \brief At rest at \p angle_rad: integrators, filters and memories cleared (no derivative kick).
   void reset(double angle_rad);
   /// \brief One controller sample: returns the voltage command, saturated to ±supply [V].
   /// \param[in] theta_ref, omega_ref, alpha_ref  setpoint and its NC derivatives [rad, rad/s, rad/s²]
   /// \param[in] theta, omega, current  measured angle, speed, current [rad, rad/s, A]
   double update(double theta_ref, double omega_ref, double alpha_ref, double theta, double omega, double current);
-  double speedReference() const { return omega_ref_; }    ///< last ω_ref [rad/s]
-  double currentReference() const { return i_ref_; }      ///< last i_ref [A]
-  double voltageFeedforward() const { return u_ff_; }     ///< last U_ff [V] (0 when off)
+  double speedReference() const { return omega_ref_; }  ///< last ω_ref [rad/s]
+  double currentReference() const { return i_ref_; }    ///< last i_ref [A]
+  double voltageFeedforward() const { return u_ff_; }   ///< last U_ff [V] (0 when off)
 
 private:
   CascadeGains g_;
   double jeq_over_kc_, period_s_, supply_v_;
   bool differentiate_;
-  double r_ohm_, l_h_, ke_;            ///< plant R, L, Ke of U_ff
+  double r_ohm_, l_h_, ke_;  ///< plant R, L, Ke of U_ff
   bool voltage_ff_;
-  double lp_a_ = 0.0;                  ///< e^{-T/τf}
-  double pd_a_ = 0.0, pd_b_ = 0.0;     ///< PD derivative filter coefficients
-  double ci_ = 0.0, cw_ = 0.0;         ///< T/(2Ti), T/(2Tiω)
+  double lp_a_ = 0.0;               ///< e^{-T/τf}
+  double pd_a_ = 0.0, pd_b_ = 0.0;  ///< PD derivative filter coefficients
+  double ci_ = 0.0, cw_ = 0.0;      ///< T/(2Ti), T/(2Tiω)
   // state
   double e_theta_prev_ = 0.0, d_state_ = 0.0;
   double e_w_prev_ = 0.0, int_w_ = 0.0;
   double e_i_prev_ = 0.0, int_i_ = 0.0;
   double lp1_ = 0.0, lp2_ = 0.0, lp3_ = 0.0, theta_ref_prev_ = 0.0, d1_prev_ = 0.0;
-  double i_ff_prev_ = 0.0;             ///< last i_ff (discrete derivative) [A]
+  double i_ff_prev_ = 0.0;  ///< last i_ff (discrete derivative) [A]
   double omega_ref_ = 0.0, i_ref_ = 0.0, u_ff_ = 0.0;
 };
 }  // namespace scanhead

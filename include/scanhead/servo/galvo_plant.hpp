@@ -17,17 +17,17 @@ namespace scanhead
 struct GalvoPlantParams
 {
   // Defaults: the Y galvo of this project (galvo_params.hpp gives both axes with their sources).
-  double resistance_ohm = 1.65;            ///< R [Ω]
-  double inductance_h = 2.86e-4;           ///< L [H]
-  double torque_constant_nm_per_a = 0.024; ///< Kc = Ke [N·m/A] = [V·s/rad]
-  double inertia_kgm2 = 2.0e-7;            ///< Jeq, rotor + mirror [kg·m²]
-  double viscous_nms = 2.0e-6;             ///< B [N·m·s/rad]
-  double offset_torque_nm = 1.0e-5;        ///< Tp [N·m]
-  double coulomb_torque_nm = 3.0e-5;       ///< Tc [N·m]
-  double mode_gain = 4800.0;               ///< Kr of the flexible mode [rad/s² per A]
-  double mode_damping = 0.02;              ///< ξr
-  double mode_frequency_hz = 5500.0;       ///< ωres / 2π [Hz]
-  double supply_voltage_v = 30.0;          ///< driver saturation |U| <= this [V]
+  double resistance_ohm = 1.65;             ///< R [Ω]
+  double inductance_h = 2.86e-4;            ///< L [H]
+  double torque_constant_nm_per_a = 0.024;  ///< Kc = Ke [N·m/A] = [V·s/rad]
+  double inertia_kgm2 = 2.0e-7;             ///< Jeq, rotor + mirror [kg·m²]
+  double viscous_nms = 2.0e-6;              ///< B [N·m·s/rad]
+  double offset_torque_nm = 1.0e-5;         ///< Tp [N·m]
+  double coulomb_torque_nm = 3.0e-5;        ///< Tc [N·m]
+  double mode_gain = 4800.0;                ///< Kr of the flexible mode [rad/s² per A]
+  double mode_damping = 0.02;               ///< ξr
+  double mode_frequency_hz = 5500.0;        ///< ωres / 2π [Hz]
+  double supply_voltage_v = 30.0;           ///< driver saturation |U| <= this [V]
 
   /// \throws ConfigError naming "<prefix>.<field>" and the value
   void validate(const std::string& prefix) const;
@@ -53,8 +53,8 @@ struct GalvoPlantParams
 /// \f$|K_c i - T_p| \le T_c\f$ at a step's start and end, else the step is refined the same way and
 /// the rotor breaks away in the first finest sub-step that starts with the drive beyond Tc, the
 /// friction opposing the drive. A constant current twists the mode statically: θ then includes
-/// \f$K_r i/\omega_{res}^2\f$ even while the rotor is stuck. This keeps sgn(0) = 0, the holding behaviour of real dry friction, and no stiff
-/// smoothing term that would force tiny steps.
+/// \f$K_r i/\omega_{res}^2\f$ even while the rotor is stuck. This keeps sgn(0) = 0, the holding behaviour of real dry
+/// friction, and no stiff smoothing term that would force tiny steps.
 class GalvoPlant
 {
 public:
@@ -63,11 +63,11 @@ public:
   void reset(double angle_rad);
   /// \brief Advances \p dt_s [s] with the voltage \p voltage_v held (saturated to ±supply).
   void advance(double voltage_v, double dt_s);
-  double current() const { return x_[0]; }          ///< i [A]
-  double velocity() const { return x_[1] + x_[4]; } ///< ω measured at the mirror, rigid + flexible mode [rad/s]
-  double angle() const { return x_[2]; }            ///< θ [rad]
-  double rigidVelocity() const { return x_[1]; }    ///< ω_r, rigid rotor [rad/s]
-  double modeVelocity() const { return x_[4]; }     ///< p, the flexible mode's share of ω [rad/s]
+  double current() const { return x_[0]; }              ///< i [A]
+  double velocity() const { return x_[1] + x_[4]; }     ///< ω measured at the mirror, rigid + flexible mode [rad/s]
+  double angle() const { return x_[2]; }                ///< θ [rad]
+  double rigidVelocity() const { return x_[1]; }        ///< ω_r, rigid rotor [rad/s]
+  double modeVelocity() const { return x_[4]; }         ///< p, the flexible mode's share of ω [rad/s]
   double lastVoltage() const { return last_voltage_; }  ///< U applied by the last advance (saturated) [V]
   /// \brief Friction torque Tf = B ω_r + Tp + Tc sgn(ω_r) at the present state [N·m]
   /// (for a stuck rotor, the static friction that balances the drive).
@@ -79,10 +79,10 @@ private:
   struct Step
   {
     double dt_s = -1.0;
-    Eigen::Matrix<double, 5, 5> phi;         ///< sliding (or ω_r free)
+    Eigen::Matrix<double, 5, 5> phi;  ///< sliding (or ω_r free)
     Eigen::Matrix<double, 5, 2> gamma;
-    Eigen::Matrix<double, 5, 5> phi_stuck;   ///< ω_r held at 0 (static friction balances the drive)
-    Eigen::Matrix<double, 5, 1> gamma_stuck; ///< weight of U when stuck
+    Eigen::Matrix<double, 5, 5> phi_stuck;    ///< ω_r held at 0 (static friction balances the drive)
+    Eigen::Matrix<double, 5, 1> gamma_stuck;  ///< weight of U when stuck
   };
   static constexpr int kLevels = 3;  ///< dt, dt/10, dt/100
   void prepare(Step& step, double dt_s) const;

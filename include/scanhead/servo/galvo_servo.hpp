@@ -68,18 +68,19 @@ public:
   /// \brief Low-frequency delay d(-phase)/dω at 0 = 2ζ/ωn + 1/p [s].
   ///
   /// \f[ \arg H(j\omega) = -\arctan\frac{2\zeta\omega/\omega_n}{1 - \omega^2/\omega_n^2}
-  ///     - \arctan\frac{\omega}{p} \Rightarrow -\frac{d\arg H}{d\omega}\Big|_0 = \frac{2\zeta}{\omega_n} + \frac{1}{p}, \f]
+  ///     - \arctan\frac{\omega}{p} \Rightarrow -\frac{d\arg H}{d\omega}\Big|_0 = \frac{2\zeta}{\omega_n} + \frac{1}{p},
+  ///     \f]
   /// also the first moment of the impulse response, so a ramp of slope v is followed with the
   /// steady error v × this delay (H(s) = 1 − τ s + O(s²)).
   double lowFrequencyDelay() const;
 
 private:
   double wn_ = 0, zeta_ = 0, p_ = 0, kc_over_jeq_ = 0;
-  Eigen::Matrix3d ad_ = Eigen::Matrix3d::Identity();  ///< Φ, state transition over one period
-  Eigen::Vector3d g_ = Eigen::Vector3d::Zero();        ///< Γ2 − (1,0,1): weight of Δu_k on ξ
+  Eigen::Matrix3d ad_ = Eigen::Matrix3d::Identity();       ///< Φ, state transition over one period
+  Eigen::Vector3d g_ = Eigen::Vector3d::Zero();            ///< Γ2 − (1,0,1): weight of Δu_k on ξ
   Eigen::Vector3d current_row_ = Eigen::Vector3d::Zero();  ///< ωn²/(Kc/Jeq)·(−1, −2ζ, 1): current from ξ [A]
-  Eigen::Vector3d xi_ = Eigen::Vector3d::Zero();       ///< deviation state ξ = x − (1,0,1)·u_prev_
-  double u_prev_ = 0.0;                                ///< last setpoint sample [rad]
+  Eigen::Vector3d xi_ = Eigen::Vector3d::Zero();           ///< deviation state ξ = x − (1,0,1)·u_prev_
+  double u_prev_ = 0.0;                                    ///< last setpoint sample [rad]
   bool primed_ = false;
 };
 
@@ -123,7 +124,8 @@ private:
   ServoConfig config_;
   double period_s_;
   std::array<std::unique_ptr<AxisModel>, 2> axes_;
-  std::array<ClosedLoopAxis*, 2> closed_loop_{{nullptr, nullptr}};  ///< the same axes when closed-loop (final: calls devirtualised), else null
+  std::array<ClosedLoopAxis*, 2> closed_loop_{
+      {nullptr, nullptr}};  ///< the same axes when closed-loop (final: calls devirtualised), else null
   std::array<CascadeAxis*, 2> cascade_{{nullptr, nullptr}};  ///< the same axes when cascade, else null
   Eigen::Vector2d delay_;
 };

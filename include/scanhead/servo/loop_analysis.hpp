@@ -11,13 +11,12 @@
 /// \f$L_\omega = REG_\omega T_i H_{\omega/i}\f$, \f$T_\omega = L_\omega/(1 + L_\omega)\f$;
 /// \f$L_\theta = REG_\theta T_\omega / s\f$. Closed loop, feedback only (THESIS Fig. 2.40)
 /// \f$L_\theta/(1 + L_\theta)\f$; with feedforward (THESIS eq. 2.32–2.33)
-/// \f[ \frac{\theta}{\theta_{ref}} = \frac{(REG_\theta + FF_\omega)T_\omega + (FF_i\,T_i + FF_U S_U) H_{\omega/i}/(1 + L_\omega)}{s + REG_\theta T_\omega} \f]
-/// with the voltage feedforward of this project (cascade_controller.hpp, servo.voltage_feedforward)
-/// \f$FF_U = (R + Ls)FF_i + K_e FF_\omega\f$ entering with the current PI's output,
-/// \f$S_U = e^{-sT_c/2}H_{i/U}/(1 + L_i)\f$ (\f$FF_U = 0\f$ without it: the THESIS's eq. 2.32–2.33).
-/// The feedback-only loops, margins and bandwidth do not depend on it.
-/// The feedforward's 1/(1 + τf s) is taken as the controller realises it (cascade_controller.hpp,
-/// NC derivatives): \f$(1 - a)/(1 - a e^{-sT_c})\f$, \f$a = e^{-T_c/\tau_f}\f$.
+/// \f[ \frac{\theta}{\theta_{ref}} = \frac{(REG_\theta + FF_\omega)T_\omega + (FF_i\,T_i + FF_U S_U) H_{\omega/i}/(1 +
+/// L_\omega)}{s + REG_\theta T_\omega} \f] with the voltage feedforward of this project (cascade_controller.hpp,
+/// servo.voltage_feedforward) \f$FF_U = (R + Ls)FF_i + K_e FF_\omega\f$ entering with the current PI's output, \f$S_U =
+/// e^{-sT_c/2}H_{i/U}/(1 + L_i)\f$ (\f$FF_U = 0\f$ without it: the THESIS's eq. 2.32–2.33). The feedback-only loops,
+/// margins and bandwidth do not depend on it. The feedforward's 1/(1 + τf s) is taken as the controller realises it
+/// (cascade_controller.hpp, NC derivatives): \f$(1 - a)/(1 - a e^{-sT_c})\f$, \f$a = e^{-T_c/\tau_f}\f$.
 #pragma once
 
 #include <complex>
@@ -39,11 +38,11 @@ public:
   CascadeLoops(const GalvoPlantParams& plant, const CascadeGains& gains, double controller_period_s,
                bool voltage_feedforward = true);
   using Complex = std::complex<double>;
-  Complex currentPerVoltage(double w) const;   ///< H_{i/U}(jw), plant
-  Complex speedPerCurrent(double w) const;     ///< H_{ω/i}(jw), plant
-  Complex currentOpenLoop(double w) const;     ///< L_i(jw)
-  Complex speedOpenLoop(double w) const;       ///< L_ω(jw)
-  Complex positionOpenLoop(double w) const;    ///< L_θ(jw)
+  Complex currentPerVoltage(double w) const;  ///< H_{i/U}(jw), plant
+  Complex speedPerCurrent(double w) const;    ///< H_{ω/i}(jw), plant
+  Complex currentOpenLoop(double w) const;    ///< L_i(jw)
+  Complex speedOpenLoop(double w) const;      ///< L_ω(jw)
+  Complex positionOpenLoop(double w) const;   ///< L_θ(jw)
   /// \brief θ/θref(jw), with or without the feedforward paths (K1, K2 as configured)
   Complex closedLoop(double w, bool feedforward) const;
 
@@ -66,7 +65,7 @@ struct LoopMargin
 struct LoopReport
 {
   LoopMargin current, speed, position;
-  double bandwidth_hz = 0.0;  ///< −3 dB of θ/θref, feedback only (THESIS Fig. 2.40) [Hz]
+  double bandwidth_hz = 0.0;                   ///< −3 dB of θ/θref, feedback only (THESIS Fig. 2.40) [Hz]
   double bandwidth_with_feedforward_hz = 0.0;  ///< −3 dB of θ/θref with FFω, FFi [Hz]
   double peak_with_feedforward_db = 0.0;       ///< max |θ/θref| with feedforward, 1 Hz..50 kHz [dB]
   double low_frequency_delay_s = 0.0;          ///< −d arg(θ/θref)/dω at 0, feedforward included [s]
@@ -122,6 +121,7 @@ CascadeGains synthesiseGains(const GalvoPlantParams& plant, const LoopTargets& t
 /// bandwidth_hz, position_crossover_rad_s, position_phase_margin_deg, speed_crossover_rad_s,
 /// speed_phase_margin_deg, current_crossover_rad_s, current_phase_margin_deg,
 /// bandwidth_with_feedforward_hz, peak_with_feedforward_db, low_frequency_delay_s,
-/// mode_frequency_hz, controller_rate_hz, axis (with servo.voltage_feedforward as configured). \throws ConfigError on an invalid config
+/// mode_frequency_hz, controller_rate_hz, axis (with servo.voltage_feedforward as configured). \throws ConfigError on
+/// an invalid config
 std::string loopsReportYaml(const ServoConfig& config, int axis);
 }  // namespace scanhead

@@ -47,13 +47,13 @@ struct LayerWindow
   std::vector<double> t;          ///< rise [K]
   std::vector<double> inv_kappa;  ///< 1/κ [m³·K/J]
   std::vector<double> lambda;     ///< cell conductivity [W/(m·K)]
-  std::vector<double> fx, fy;     ///< face conductivities: fx between (i, j) and (i+1, j) at j·n + i, fy (i, j)–(i, j+1)
+  std::vector<double> fx, fy;  ///< face conductivities: fx between (i, j) and (i+1, j) at j·n + i, fy (i, j)–(i, j+1)
   std::vector<std::uint8_t> solid;
-  std::vector<double> src;        ///< energy deposited this step [J]
-  std::vector<double> scratch;    ///< Thomas coefficients / shift buffer
+  std::vector<double> src;      ///< energy deposited this step [J]
+  std::vector<double> scratch;  ///< Thomas coefficients / shift buffer
   bool placed = false;
-  std::int64_t oi = 0, oj = 0;    ///< global index of window cell (0, 0)
-  CellBox box;                    ///< active box (T = 0 outside)
+  std::int64_t oi = 0, oj = 0;  ///< global index of window cell (0, 0)
+  CellBox box;                  ///< active box (T = 0 outside)
 
   /// \brief Allocates the n × n fields (\p n_cells per side) and reset()s them.
   void allocate(int n_cells, double cell_side_m, const CellMaterials& cell_materials);

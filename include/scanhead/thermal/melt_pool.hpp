@@ -20,8 +20,8 @@ namespace scanhead
 /// counting (width). Only the region connected to the peak along those lines counts. A march that
 /// reaches the outermost cell centres stops there and sets pool_at_window_edge.
 /// \pre the peak is above melting; \p dir is a unit vector
-void measureMeltPool(const LayerWindow& window, int peak_i, int peak_j, const Eigen::Vector2d& dir,
-                     double melt_rise_k, ThermalStep& step);
+void measureMeltPool(const LayerWindow& window, int peak_i, int peak_j, const Eigen::Vector2d& dir, double melt_rise_k,
+                     ThermalStep& step);
 
 /// \brief Running MeltPoolStats: counts and maxima over all steps, mean and spread over the steady
 /// ones (ThermalStep::steady), the spread from the running sums
@@ -30,7 +30,10 @@ class MeltPoolAccumulator
 {
 public:
   /// \param[in] melt_rise_k a step whose peak is above it counts as melting [K]
-  explicit MeltPoolAccumulator(double melt_rise_k = 0.0) : melt_rise_k_(melt_rise_k) {}
+  explicit MeltPoolAccumulator(double melt_rise_k = 0.0)
+    : melt_rise_k_(melt_rise_k)
+  {
+  }
 
   /// \brief Forgets every step (melt_rise_k kept).
   void reset();

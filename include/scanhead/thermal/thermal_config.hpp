@@ -20,16 +20,17 @@ namespace scanhead
 struct ThermalConfig
 {
   // --- Material (PATH eq. 1: powder or solid per cell) ---
-  double density_solid_kg_m3 = 8000.0;       ///< ρ_solide [kg/m³] (PATH §2.3; 316L 7990 at 20 °C)
-  double density_powder_kg_m3 = 4000.0;      ///< ρ_poudre [kg/m³] (PATH §2.3: 50 % packing)
+  double density_solid_kg_m3 = 8000.0;         ///< ρ_solide [kg/m³] (PATH §2.3; 316L 7990 at 20 °C)
+  double density_powder_kg_m3 = 4000.0;        ///< ρ_poudre [kg/m³] (PATH §2.3: 50 % packing)
   double heat_capacity_solid_j_kg_k = 450.0;   ///< c_p,solide [J/(kg·K)] (PATH §2.3; 316L ≈ 500 at 20 °C)
   double heat_capacity_powder_j_kg_k = 450.0;  ///< c_p,poudre [J/(kg·K)] (PATH §2.3: same as solid)
-  double conductivity_solid_w_m_k = 15.0;    ///< λ_solide [W/(m·K)] (PATH §2.3; 316L 16 at 100 °C)
-  double conductivity_powder_w_m_k = 0.25;   ///< λ_poudre [W/(m·K)] (PATH §2.3: 1.7 % of solid, powder beds ~1 %)
-  double loss_depth_m = 50.0e-6;             ///< δ, depth of the loss term λ_solide/δ²·T [m] (PATH §2.3: 5e-5)
-  double layer_thickness_m = 50.0e-6;        ///< h, thickness the absorbed power heats, q_vol = q/h [m] (30–50 µm layers; = δ)
-  double melt_temperature_k = 1673.15;       ///< phase change powder → solid and melt-pool edge [K] (316L liquidus 1400 °C)
-  double ambient_temperature_k = 303.15;     ///< bed temperature T0 [K] (PATH §2.3: 30 °C); T is the rise over it
+  double conductivity_solid_w_m_k = 15.0;      ///< λ_solide [W/(m·K)] (PATH §2.3; 316L 16 at 100 °C)
+  double conductivity_powder_w_m_k = 0.25;     ///< λ_poudre [W/(m·K)] (PATH §2.3: 1.7 % of solid, powder beds ~1 %)
+  double loss_depth_m = 50.0e-6;               ///< δ, depth of the loss term λ_solide/δ²·T [m] (PATH §2.3: 5e-5)
+  double layer_thickness_m =
+      50.0e-6;  ///< h, thickness the absorbed power heats, q_vol = q/h [m] (30–50 µm layers; = δ)
+  double melt_temperature_k = 1673.15;  ///< phase change powder → solid and melt-pool edge [K] (316L liquidus 1400 °C)
+  double ambient_temperature_k = 303.15;  ///< bed temperature T0 [K] (PATH §2.3: 30 °C); T is the rise over it
   /// What a cell's switch powder → solid does (PATH says only that the properties switch):
   ///   - "keep_temperature": PATH read literally (κ ∂T/∂t): T continuous, κ_p → κ_s, λ_p → λ_s; the
   ///     energy h·(κ_s − κ_p)·T·dA this creates is booked as phase_switch_j (with PATH's values it
@@ -45,10 +46,12 @@ struct ThermalConfig
   std::string phase_switch = "consolidate";
 
   // --- Source (PATH eq. 3 with f = 2: q = 2·A·P/(π w²)·exp(−2 r²/w²)) ---
-  double absorptivity = 0.35;      ///< A, absorbed share of P (316L powder, conduction mode: 0.3–0.4, Trapp et al. 2017)
+  double absorptivity = 0.35;  ///< A, absorbed share of P (316L powder, conduction mode: 0.3–0.4, Trapp et al. 2017)
   double spot_diameter_m = 70.0e-6;  ///< 1/e² diameter 2w [m] (THESIS §2.5, as energy.spot_diameter_m)
-  double source_truncation_radii = 3.0;  ///< footprint drawn out to this many w, square stencil (exp(−18) beyond), renormalised
-  double max_substep_radii = 0.5;  ///< a sample's energy is spread along its segment in sub-steps ≤ this many w (as energy.*)
+  double source_truncation_radii =
+      3.0;  ///< footprint drawn out to this many w, square stencil (exp(−18) beyond), renormalised
+  double max_substep_radii =
+      0.5;  ///< a sample's energy is spread along its segment in sub-steps ≤ this many w (as energy.*)
 
   // --- Numerics ---
   double cell_m = 10.0e-6;            ///< cell pitch [m] (w = 3.5 cells)
@@ -63,15 +66,15 @@ struct ThermalConfig
   /// cells: 200 W, 1 m/s, default bed, cells 10 / 5 / 2.5 µm: harmonic L = 519 / 495 / 476 µm,
   /// W = 104 / 114 / 126 µm; arithmetic L = 447 / 450 / 453 µm, W = 130 / 140 / 142 µm.
   std::string face_conductivity = "arithmetic";
-  double active_threshold_k = 1.0e-3; ///< cells below this rise, outside the hot region's box, are set to 0 [K]
+  double active_threshold_k = 1.0e-3;  ///< cells below this rise, outside the hot region's box, are set to 0 [K]
 
   // --- Statistics ---
   double settle_time_s = 1.0e-3;  ///< steps count in the steady means once the laser has been on this long [s]
 
   void validate() const;
 
-  double meltRiseK() const { return melt_temperature_k - ambient_temperature_k; }  ///< phase-change rise [K]
-  double kappaSolid() const { return density_solid_kg_m3 * heat_capacity_solid_j_kg_k; }    ///< κ_s = ρ c_p [J/(m³·K)]
+  double meltRiseK() const { return melt_temperature_k - ambient_temperature_k; }         ///< phase-change rise [K]
+  double kappaSolid() const { return density_solid_kg_m3 * heat_capacity_solid_j_kg_k; }  ///< κ_s = ρ c_p [J/(m³·K)]
   double kappaPowder() const { return density_powder_kg_m3 * heat_capacity_powder_j_kg_k; }  ///< κ_p [J/(m³·K)]
   /// \brief κ of a melted cell [J/(m³·K)] (κ_s, or ρ_p·c_s for "consolidate").
   double kappaMelted() const
@@ -84,6 +87,9 @@ struct ThermalConfig
     return phase_switch == "consolidate" ? conductivity_solid_w_m_k * density_powder_kg_m3 / density_solid_kg_m3
                                          : conductivity_solid_w_m_k;
   }
-  double lossCoefficient() const { return conductivity_solid_w_m_k / (loss_depth_m * loss_depth_m); }  ///< λ_s/δ² [W/(m³·K)]
+  double lossCoefficient() const
+  {
+    return conductivity_solid_w_m_k / (loss_depth_m * loss_depth_m);
+  }  ///< λ_s/δ² [W/(m³·K)]
 };
 }  // namespace scanhead

@@ -114,7 +114,7 @@ private:
 
   ThermalConfig config_;
   // Derived constants.
-  double w_ = 0.0;  ///< spot radius [m]
+  double w_ = 0.0;                                                       ///< spot radius [m]
   double kappa_s_ = 0.0, kappa_p_ = 0.0, loss_ = 0.0, melt_rise_ = 0.0;  ///< κ_s, λ_s: of a melted cell (phase_switch)
   double lambda_s_ = 0.0;
   bool keep_energy_ = false;

@@ -12,21 +12,21 @@ namespace scanhead
 /// \brief One thermal time step (step_samples NC periods, fewer for the last one at finish()).
 struct ThermalStep
 {
-  std::uint64_t first_index = 0;  ///< global index of the step's first sample
-  std::uint32_t samples = 0;      ///< NC samples in the step
-  double time_s = 0.0;            ///< end of the step, (first_index + samples)·Ts [s]
-  double peak_k = 0.0;            ///< highest rise in the window at the end of the step [K]
-  double length_m = 0.0;          ///< melt-pool extent along the scan direction (0 below melting) [m]
-  double width_m = 0.0;           ///< melt-pool extent across it [m]
-  bool laser_on = false;          ///< some sample of the step had power
-  bool steady = false;            ///< counted in the steady means (laser on all the step, past settle_time_s)
+  std::uint64_t first_index = 0;     ///< global index of the step's first sample
+  std::uint32_t samples = 0;         ///< NC samples in the step
+  double time_s = 0.0;               ///< end of the step, (first_index + samples)·Ts [s]
+  double peak_k = 0.0;               ///< highest rise in the window at the end of the step [K]
+  double length_m = 0.0;             ///< melt-pool extent along the scan direction (0 below melting) [m]
+  double width_m = 0.0;              ///< melt-pool extent across it [m]
+  bool laser_on = false;             ///< some sample of the step had power
+  bool steady = false;               ///< counted in the steady means (laser on all the step, past settle_time_s)
   bool pool_at_window_edge = false;  ///< the melt pool reached the window edge: length/width truncated
 };
 
 /// \brief Mean and spread of the steady steps, maxima over all steps.
 struct MeltPoolStats
 {
-  std::uint64_t steps = 0;          ///< thermal steps run
+  std::uint64_t steps = 0;  ///< thermal steps run
   std::uint64_t laser_on_steps = 0;
   std::uint64_t melting_steps = 0;  ///< steps whose peak was above melting
   std::uint64_t steady_steps = 0;   ///< steps in the means below
@@ -63,8 +63,8 @@ struct ThermalWindow
   double cell_m = 0.0;
   std::int64_t origin_i = 0, origin_j = 0;
   int width = 0, height = 0;
-  std::vector<double> rise_k;        ///< temperature rise over the bed T [K]
-  std::vector<std::uint8_t> solid;   ///< 1 once melted (solid properties), 0 powder
+  std::vector<double> rise_k;       ///< temperature rise over the bed T [K]
+  std::vector<std::uint8_t> solid;  ///< 1 once melted (solid properties), 0 powder
 };
 
 /// \brief The cells ever melted (global record) as a raster over their bounding box (same grid as ThermalWindow).

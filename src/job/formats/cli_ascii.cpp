@@ -38,7 +38,9 @@ class AsciiGeometry
 {
 public:
   AsciiGeometry(const TextCursor& cursor, const std::string& source, JobBuilder& builder)
-    : c_(cursor), source_(source), b_(builder)
+    : c_(cursor)
+    , source_(source)
+    , b_(builder)
   {
   }
 
@@ -62,7 +64,7 @@ public:
       if (cmd == "LAYER")
       {
         beginParameters();
-        number(Field{ "z" });
+        number(Field{"z"});
         endParameters();
         b_.startLayer();
       }
@@ -73,7 +75,7 @@ public:
       else if (cmd == "POWER")
       {
         beginParameters();
-        const double w = number(Field{ "power [W]" });
+        const double w = number(Field{"power [W]"});
         if (!(w >= 0.0))
           failAtLine(source_, line, "$$POWER: expected a power >= 0 W, got " + toCharsText(w));
         endParameters();
@@ -82,7 +84,7 @@ public:
       else if (cmd == "SPEED")
       {
         beginParameters();
-        const double v = number(Field{ "speed [mm/s]" });
+        const double v = number(Field{"speed [mm/s]"});
         if (!(v * 1e-3 > 0.0))  // also rejects denormals that vanish in m/s
           failAtLine(source_, line, "$$SPEED: expected a speed > 0 mm/s, got " + toCharsText(v));
         endParameters();
@@ -91,7 +93,7 @@ public:
       else if (cmd == "FOCUS")
       {
         beginParameters();
-        number(Field{ "focus [mm]" });  // checked; ignored: the model has no focus axis
+        number(Field{"focus [mm]"});  // checked; ignored: the model has no focus axis
         endParameters();
       }
       else if (cmd == "GEOMETRYEND")
@@ -191,18 +193,18 @@ private:
   {
     requireLayer(line);
     beginParameters();
-    integer(Field{ "id" });
-    const double dir = integer(Field{ "dir" });
+    integer(Field{"id"});
+    const double dir = integer(Field{"dir"});
     if (dir < 0.0 || dir > 2.0)
       fail("expected dir 0 (clockwise), 1 (counter-clockwise) or 2 (open), got " + toCharsText(dir));
-    const std::size_t n = count(Field{ "point count n" }, 2);
+    const std::size_t n = count(Field{"point count n"}, 2);
     const bool keep = b_.active();
     if (keep)
       b_.beginMark(n, PolylineRole::Contour);
     for (std::size_t i = 1; i <= n; ++i)
     {
-      const double x = number(Field{ "x of point", i, n });
-      const double y = number(Field{ "y of point", i, n });
+      const double x = number(Field{"x of point", i, n});
+      const double y = number(Field{"y of point", i, n});
       if (keep)
         b_.addPoint(x, y);
     }
@@ -215,15 +217,15 @@ private:
   {
     requireLayer(line);
     beginParameters();
-    integer(Field{ "id" });
-    const std::size_t n = count(Field{ "hatch count n" }, 4);
+    integer(Field{"id"});
+    const std::size_t n = count(Field{"hatch count n"}, 4);
     const bool keep = b_.active();
     for (std::size_t i = 1; i <= n; ++i)
     {
-      const double xs = number(Field{ "start x of hatch", i, n });
-      const double ys = number(Field{ "start y of hatch", i, n });
-      const double xe = number(Field{ "end x of hatch", i, n });
-      const double ye = number(Field{ "end y of hatch", i, n });
+      const double xs = number(Field{"start x of hatch", i, n});
+      const double ys = number(Field{"start y of hatch", i, n});
+      const double xe = number(Field{"end x of hatch", i, n});
+      const double ye = number(Field{"end y of hatch", i, n});
       if (keep)
       {
         b_.beginMark(2, PolylineRole::Hatch);
@@ -243,10 +245,9 @@ private:
 };
 }  // namespace
 
-void parseAsciiGeometry(const std::string& bytes, const Header& header, const std::string& source,
-                        JobBuilder& builder)
+void parseAsciiGeometry(const std::string& bytes, const Header& header, const std::string& source, JobBuilder& builder)
 {
-  TextCursor c{ bytes.data() + header.geometry_offset, bytes.data() + bytes.size(), header.geometry_line };
+  TextCursor c{bytes.data() + header.geometry_offset, bytes.data() + bytes.size(), header.geometry_line};
   AsciiGeometry(c, source, builder).run();
 }
 }  // namespace cli

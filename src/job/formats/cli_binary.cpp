@@ -261,8 +261,7 @@ private:
 };
 }  // namespace
 
-void parseBinaryGeometry(const std::string& bytes, const Header& header, const std::string& source,
-                         JobBuilder& builder)
+void parseBinaryGeometry(const std::string& bytes, const Header& header, const std::string& source, JobBuilder& builder)
 {
   BinaryGeometry(bytes, header, source, builder).run();
 }

@@ -37,7 +37,7 @@ void JobBuilder::endMark()
     jump.type = PolylineType::Jump;
     jump.speed_mps = jump_speed_mps_;
     jump.power_w = 0.0;
-    jump.points = { last_end_, start };
+    jump.points = {last_end_, start};
     job_.polylines.push_back(std::move(jump));
   }
   last_end_ = current_.points.back();

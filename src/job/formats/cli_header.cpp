@@ -60,23 +60,21 @@ std::string_view parameterText(TextCursor& c)
   return std::string_view(start, static_cast<std::size_t>(stop - start));
 }
 
-double headerNumber(std::string_view text, std::string_view command, const std::string& source,
-                    std::size_t line)
+double headerNumber(std::string_view text, std::string_view command, const std::string& source, std::size_t line)
 {
   double value = 0.0;
   const NumberText status = parseNumber(std::string(text), value);
   if (status != NumberText::Ok)
     failAtLine(source, line,
-               "$$" + std::string(command) + ": expected a " +
-                   (status == NumberText::NotFinite ? "finite " : "") + "number, got '" +
-                   printable(text.data(), text.data() + text.size()) + "'");
+               "$$" + std::string(command) + ": expected a " + (status == NumberText::NotFinite ? "finite " : "") +
+                   "number, got '" + printable(text.data(), text.data() + text.size()) + "'");
   return value;
 }
 }  // namespace
 
 Header parseHeader(const std::string& bytes, const std::string& source)
 {
-  TextCursor c{ bytes.data(), bytes.data() + bytes.size(), 1 };
+  TextCursor c{bytes.data(), bytes.data() + bytes.size(), 1};
   if (c.startsWith("\xEF\xBB\xBF"))  // UTF-8 byte order mark
     c.p += 3;
   c.skipBlank();
@@ -131,8 +129,9 @@ Header parseHeader(const std::string& bytes, const std::string& source)
     {
       const double n = headerNumber(param, name, source, line);
       if (!(n >= 0.0) || n != std::floor(n) || n > 2e9)
-        failAtLine(source, line, "$$LAYERS: expected a layer count (integer >= 0), got '" +
-                                     printable(param.data(), param.data() + param.size()) + "'");
+        failAtLine(source, line,
+                   "$$LAYERS: expected a layer count (integer >= 0), got '" +
+                       printable(param.data(), param.data() + param.size()) + "'");
       h.declared_layers = static_cast<long>(n);
     }
     else if (name == "VERSION")

@@ -72,8 +72,7 @@ private:
 };
 
 /// \brief ASCII geometry from \p header.geometry_offset to the end. \throws InputError
-void parseAsciiGeometry(const std::string& bytes, const Header& header, const std::string& source,
-                        JobBuilder& builder);
+void parseAsciiGeometry(const std::string& bytes, const Header& header, const std::string& source, JobBuilder& builder);
 
 /// \brief Binary geometry from \p header.geometry_offset to the end. \throws InputError
 void parseBinaryGeometry(const std::string& bytes, const Header& header, const std::string& source,

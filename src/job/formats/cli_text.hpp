@@ -123,8 +123,7 @@ inline bool isNumberEnd(const char* p, const char* end)
   if (p >= end)
     return true;
   const char c = *p;
-  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v' || c == ',' ||
-         c == '/' || c == '$';
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v' || c == ',' || c == '/' || c == '$';
 }
 }  // namespace cli
 }  // namespace scanhead

@@ -9,9 +9,9 @@
 #include <limits>
 #include <vector>
 
-#include "scanhead/job/formats/cli_format.hpp"
 #include "scanhead/common/config_check.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/job/formats/cli_format.hpp"
 
 namespace scanhead
 {
@@ -63,8 +63,8 @@ std::vector<Group> groupMarks(const std::vector<const Polyline*>& marks, bool by
     ++i;
     if (g.hatches)
       while (i < marks.size() && marks[i]->points.size() == 2 &&
-             (!by_recipe || (marks[i]->speed_mps == marks[g.begin]->speed_mps &&
-                             marks[i]->power_w == marks[g.begin]->power_w)))
+             (!by_recipe ||
+              (marks[i]->speed_mps == marks[g.begin]->speed_mps && marks[i]->power_w == marks[g.begin]->power_w)))
         ++i;
     g.end = i;
     groups.push_back(g);

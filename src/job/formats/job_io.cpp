@@ -63,8 +63,7 @@ Polyline parsePolyline(const YAML::Node& node, const std::string& source, const 
   else if (type.as<std::string>() == "jump")
     line.type = PolylineType::Jump;
   else
-    throw InputError(at(source, type) + ": " + field + ".type: '" + type.as<std::string>() +
-                     "' is not mark or jump");
+    throw InputError(at(source, type) + ": " + field + ".type: '" + type.as<std::string>() + "' is not mark or jump");
   const YAML::Node role = node["role"];
   if (role)
   {
@@ -74,15 +73,15 @@ Polyline parsePolyline(const YAML::Node& node, const std::string& source, const 
     else if (text == "hatch")
       line.role = PolylineRole::Hatch;
     else if (text != "unspecified")
-      throw InputError(at(source, role) + ": " + field + ".role: '" + text +
-                       "' is not contour, hatch or unspecified");
+      throw InputError(at(source, role) + ": " + field + ".role: '" + text + "' is not contour, hatch or unspecified");
   }
   const YAML::Node dwell = node["dwell"];
   if (dwell)
   {
     line.dwell_s = number(dwell, source, field + ".dwell");
     if (line.dwell_s < 0.0)
-      throw InputError(at(source, dwell) + ": " + field + ".dwell must be >= 0 s (got " + fullPrecisionText(line.dwell_s) + ")");
+      throw InputError(at(source, dwell) + ": " + field + ".dwell must be >= 0 s (got " +
+                       fullPrecisionText(line.dwell_s) + ")");
   }
   const YAML::Node speed = node["speed"];
   if (speed)
@@ -181,7 +180,8 @@ void validateScanJob(const Job& job, double field_half_width_m)
     if (!std::isfinite(line.power_w) || line.power_w < 0.0)
       throw InputError(field + ".power must be >= 0 W (got " + fullPrecisionText(line.power_w) + ")");
     if (dwell && line.points.size() != 1)
-      throw InputError(field + ".points: a dwell needs exactly 1 point (got " + std::to_string(line.points.size()) + ")");
+      throw InputError(field + ".points: a dwell needs exactly 1 point (got " + std::to_string(line.points.size()) +
+                       ")");
     if (!dwell && line.points.size() < 2)
       throw InputError(field + ".points: needs at least 2 points (got " + std::to_string(line.points.size()) + ")");
     for (std::size_t k = 0; k < line.points.size(); ++k)
@@ -191,8 +191,9 @@ void validateScanJob(const Job& job, double field_half_width_m)
       if (!p.allFinite())
         throw InputError(pf + " is not finite");
       if (std::fabs(p.x()) > field_half_width_m || std::fabs(p.y()) > field_half_width_m)
-        throw InputError(pf + " = (" + fullPrecisionText(p.x()) + ", " + fullPrecisionText(p.y()) + ") m lies outside the field (|x|, |y| <= " +
-                         fullPrecisionText(field_half_width_m) + " m, optics.field_half_width_m)");
+        throw InputError(pf + " = (" + fullPrecisionText(p.x()) + ", " + fullPrecisionText(p.y()) +
+                         ") m lies outside the field (|x|, |y| <= " + fullPrecisionText(field_half_width_m) +
+                         " m, optics.field_half_width_m)");
     }
   }
 }
@@ -212,7 +213,8 @@ std::string scanJobToYaml(const Job& job)
       out << "    dwell: " << fullPrecisionText(line.dwell_s) << "\n";
     out << "    points: [";
     for (std::size_t k = 0; k < line.points.size(); ++k)
-      out << (k ? ", " : "") << "[" << fullPrecisionText(line.points[k].x()) << ", " << fullPrecisionText(line.points[k].y()) << "]";
+      out << (k ? ", " : "") << "[" << fullPrecisionText(line.points[k].x()) << ", "
+          << fullPrecisionText(line.points[k].y()) << "]";
     out << "]\n";
   }
   return out.str();

@@ -33,7 +33,10 @@ struct Line
 class LineReader
 {
 public:
-  explicit LineReader(const std::string& text) : text_(text) {}
+  explicit LineReader(const std::string& text)
+    : text_(text)
+  {
+  }
 
   /// Next line that is not blank (spaces, tabs); false at the end.
   bool nextNonBlank(Line& line)
@@ -107,7 +110,6 @@ bool startsWithMode(const std::string& word)
   return word.size() == 4 || isBlank(word[4]);  // the word "Mode", not "Modes"
 }
 
-
 /// Shortened copy of a line for messages (a binary file may have huge "lines").
 std::string excerpt(const std::string& word)
 {
@@ -147,8 +149,10 @@ class SegmentBuilder
 public:
   /// \param watts column 5 is the power in W (AdditiveFOAM), else a coefficient of the nominal power
   SegmentBuilder(const std::string& source, const SegmentReadOptions& options, bool watts)
-    : source_(source), options_(options), power_scale_w_(watts ? 1.0 : options.power_w),
-      power_field_(watts ? kPowerFieldWatts : kFieldNames[4])
+    : source_(source)
+    , options_(options)
+    , power_scale_w_(watts ? 1.0 : options.power_w)
+    , power_field_(watts ? kPowerFieldWatts : kFieldNames[4])
   {
     job_.name = stemOf(source);
     job_.source = source;
@@ -175,15 +179,15 @@ public:
         word_.assign(text, i, j - i);
         const NumberText status = parseNumber(word_, value[count]);
         if (status != NumberText::Ok)
-          fail(line, count == 4 ? power_field_ : kFieldNames[count], "'" + excerpt(word_) + "' is not a " +
-                                             (status == NumberText::NotFinite ? "finite number" : "number"));
+          fail(line, count == 4 ? power_field_ : kFieldNames[count],
+               "'" + excerpt(word_) + "' is not a " + (status == NumberText::NotFinite ? "finite number" : "number"));
       }
       ++count;
       i = j;
     }
     if (count != kColumns)
-      fail(line, "row", std::string("expected 6 columns (mode x y z ") + power_field_ + " param), got " +
-                            std::to_string(count));
+      fail(line, "row",
+           std::string("expected 6 columns (mode x y z ") + power_field_ + " param), got " + std::to_string(count));
 
     const double mode = value[0];
     if (mode != 0.0 && mode != 1.0)
@@ -192,7 +196,8 @@ public:
     for (int axis = 0; axis < 2; ++axis)
       if (!std::isfinite(point[axis]))
         fail(line, kFieldNames[1 + axis],
-             shortestText(value[1 + axis], 15) + " × unit " + shortestText(options_.unit_m, 15) + " m is not a finite length");
+             shortestText(value[1 + axis], 15) + " × unit " + shortestText(options_.unit_m, 15) +
+                 " m is not a finite length");
     const double coefficient = value[4];
     if (!(coefficient >= 0.0))
       fail(line, power_field_, "must be >= 0 (got " + shortestText(coefficient, 15) + ")");
@@ -333,8 +338,9 @@ Job parseSegmentPath(const std::string& text, const std::string& source, const S
   if (builder.rows() == 0)
     builder.fail(Line{0, 0, reader.lastLine() + 1}, "row", "no segment row after the header");
   if (options.exact_count && !additive_foam && builder.rows() != count)
-    builder.fail(count_line, "count", "the header says " + std::to_string(count) + " segments but the file has " +
-                                          std::to_string(builder.rows()) + " rows");
+    builder.fail(count_line, "count",
+                 "the header says " + std::to_string(count) + " segments but the file has " +
+                     std::to_string(builder.rows()) + " rows");
   return builder.take();
 }
 

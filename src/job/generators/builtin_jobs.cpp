@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "scanhead/common/errors.hpp"
-#include "scanhead/job/formats/job_io.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/job/formats/job_io.hpp"
 #include "scanhead/job/generators/scan_generators.hpp"
 #include "scanhead/job/generators/shape.hpp"
 #include "scanhead/job/generators/thesis_square_job.hpp"
@@ -57,7 +57,8 @@ double take(Spec& spec, const std::string& key, double fallback)
 void rejectUnknownKeys(const Spec& spec, const std::string& spec_text, const char* known)
 {
   if (!spec.values.empty())
-    throw InputError("job '" + spec_text + "': unknown key '" + spec.values.begin()->first + "' (known: " + known + ")");
+    throw InputError("job '" + spec_text + "': unknown key '" + spec.values.begin()->first + "' (known: " + known +
+                     ")");
 }
 }  // namespace
 
@@ -74,8 +75,8 @@ Job makeCornerJob(double speed_mps, double angle_deg, double leg_m, double power
   std::ostringstream name;
   name << "corner_" << angle_deg << "deg_" << speed_mps << "mps";
   job.name = name.str();
-  job.source = "built-in corner test of the NC paper: V = " + std::to_string(speed_mps) + " m/s, gamma = " +
-               std::to_string(angle_deg) + " deg";
+  job.source = "built-in corner test of the NC paper: V = " + std::to_string(speed_mps) +
+               " m/s, gamma = " + std::to_string(angle_deg) + " deg";
   job.polylines.push_back(line);
   return job;
 }
@@ -84,8 +85,8 @@ Job makeHatchJob(double size_m, double spacing_m, double speed_mps, double jump_
 {
   Job job;
   job.name = "hatch";
-  job.source = "built-in hatch: square of " + std::to_string(size_m) + " m, lines every " +
-               std::to_string(spacing_m) + " m along x";
+  job.source = "built-in hatch: square of " + std::to_string(size_m) + " m, lines every " + std::to_string(spacing_m) +
+               " m along x";
   const double half = 0.5 * size_m;
   const long lines = std::max(1L, std::lround(size_m / spacing_m) + 1);
   for (long i = 0; i < lines; ++i)

@@ -95,9 +95,10 @@ Job contours(const Shape& shape, int count, double offset_m, const HatchStyle& s
     failSetting("contours.count", "in 1...10000", count);
   requireSetting(offset_m > 0.0, "contours.offset_m", "> 0", offset_m);
   MarkJumpBuilder out(style, "contours_" + shape.name,
-                 "generated " + std::to_string(count) + " contours " + significantText(offset_m, 12) + " m apart inside " +
-                     shape.source + ": mark " + significantText(style.mark_speed_mps, 12) + " m/s at " +
-                     significantText(style.power_w, 12) + " W, jump " + significantText(style.jump_speed_mps, 12) + " m/s");
+                      "generated " + std::to_string(count) + " contours " + significantText(offset_m, 12) +
+                          " m apart inside " + shape.source + ": mark " + significantText(style.mark_speed_mps, 12) +
+                          " m/s at " + significantText(style.power_w, 12) + " W, jump " +
+                          significantText(style.jump_speed_mps, 12) + " m/s");
   out.setRole(PolylineRole::Contour);
   for (int k = 1; k <= count; ++k)
   {
@@ -120,9 +121,10 @@ Job spiral(const Shape& shape, const HatchStyle& style)
     throw InputError("shape '" + shape.name + "' (" + shape.source + ") has no ring to scan");
   const double h = style.spacing_m;
   MarkJumpBuilder out(style, "spiral_" + shape.name,
-                 "generated inward spiral of pitch " + significantText(h, 12) + " m inside " + shape.source + ": mark " +
-                     significantText(style.mark_speed_mps, 12) + " m/s at " + significantText(style.power_w, 12) +
-                     " W, jump " + significantText(style.jump_speed_mps, 12) + " m/s");
+                      "generated inward spiral of pitch " + significantText(h, 12) + " m inside " + shape.source +
+                          ": mark " + significantText(style.mark_speed_mps, 12) + " m/s at " +
+                          significantText(style.power_w, 12) + " W, jump " + significantText(style.jump_speed_mps, 12) +
+                          " m/s");
   if (isRectangle(shape))
   {
     out.mark(rectangularSpiral(shape.rings[0], h));

@@ -21,7 +21,8 @@ struct Frame
   Eigen::Vector2d d;
   Eigen::Vector2d n;
   explicit Frame(double angle_rad)
-    : d(std::cos(angle_rad), std::sin(angle_rad)), n(-std::sin(angle_rad), std::cos(angle_rad))
+    : d(std::cos(angle_rad), std::sin(angle_rad))
+    , n(-std::sin(angle_rad), std::cos(angle_rad))
   {
   }
 };
@@ -52,16 +53,16 @@ long lineCount(double extent_m, double spacing_m)
 {
   const double ratio = extent_m / spacing_m;
   if (!(ratio <= kMaxLines))
-    failSetting("hatch.spacing_m", "> extent / 1e6 = " + significantText(extent_m / kMaxLines, 12) + " m (at most 1e6 lines)",
-                spacing_m);
+    failSetting("hatch.spacing_m",
+                "> extent / 1e6 = " + significantText(extent_m / kMaxLines, 12) + " m (at most 1e6 lines)", spacing_m);
   // 1e-9 relative: 10 mm / 100 µm must give 100 lines, not 99 by rounding of the ratio.
   return std::max(1L, static_cast<long>(std::floor(ratio * (1.0 + 1e-9))));
 }
 
 /// Scans the lines s_k (centred over [s_lo, s_hi]) over [u_lo, u_hi] along d, clipped to the
 /// shape, marks in scan order.
-void emitHatch(MarkJumpBuilder& out, const ShapeClipper& shape, const Frame& frame, double spacing_m, bool meander, double s_lo,
-               double s_hi, double u_lo, double u_hi)
+void emitHatch(MarkJumpBuilder& out, const ShapeClipper& shape, const Frame& frame, double spacing_m, bool meander,
+               double s_lo, double s_hi, double u_lo, double u_hi)
 {
   const long count = lineCount(s_hi - s_lo, spacing_m);
   const double s_mid = 0.5 * (s_lo + s_hi);
@@ -89,9 +90,10 @@ void emitHatch(MarkJumpBuilder& out, const ShapeClipper& shape, const Frame& fra
 
 std::string styleText(const HatchStyle& style)
 {
-  return "spacing " + significantText(style.spacing_m, 12) + " m, angle " + significantText(style.angle_rad, 12) + " rad, " +
-         (style.meander ? "meander" : "unidirectional raster") + ", mark " + significantText(style.mark_speed_mps, 12) +
-         " m/s at " + significantText(style.power_w, 12) + " W, jump " + significantText(style.jump_speed_mps, 12) + " m/s";
+  return "spacing " + significantText(style.spacing_m, 12) + " m, angle " + significantText(style.angle_rad, 12) +
+         " rad, " + (style.meander ? "meander" : "unidirectional raster") + ", mark " +
+         significantText(style.mark_speed_mps, 12) + " m/s at " + significantText(style.power_w, 12) + " W, jump " +
+         significantText(style.jump_speed_mps, 12) + " m/s";
 }
 
 void requireShape(const Shape& shape)
@@ -129,7 +131,7 @@ Job hatch(const Shape& shape, const HatchStyle& style)
   extentAlong(vertices, frame.d, u_lo, u_hi);
   const double margin = 0.01 * (u_hi - u_lo);  // line ends outside the shape: pieces end on edges
   MarkJumpBuilder out(style, std::string("hatch_") + (style.meander ? "meander" : "raster") + "_" + shape.name,
-                 "generated hatch of " + shape.source + ": " + styleText(style));
+                      "generated hatch of " + shape.source + ": " + styleText(style));
   emitHatch(out, ShapeClipper(shape), frame, style.spacing_m, style.meander, s_lo, s_hi, u_lo - margin, u_hi + margin);
   return out.take();
 }
@@ -149,8 +151,8 @@ Job stripes(const Shape& shape, const HatchStyle& style, double stripe_width_m)
     failSetting("hatch.stripe_width_m", "> extent / 1e6 (at most 1e6 stripes)", stripe_width_m);
   const long stripe_count = std::max(1L, static_cast<long>(stripe_count_real));
   MarkJumpBuilder out(style, std::string("stripes_") + (style.meander ? "meander" : "raster") + "_" + shape.name,
-                 "generated stripes of " + significantText(stripe_width_m, 12) + " m over " + shape.source + ": " +
-                     styleText(style));
+                      "generated stripes of " + significantText(stripe_width_m, 12) + " m over " + shape.source + ": " +
+                          styleText(style));
   const ShapeClipper clipper(shape);
   for (long j = 0; j < stripe_count; ++j)
   {
@@ -175,13 +177,14 @@ Job chessboard(const Shape& shape, const HatchStyle& style, double island_size_m
   const long nx = static_cast<long>(nx_real);
   const long ny = static_cast<long>(ny_real);
   MarkJumpBuilder out(style, std::string("chessboard_") + (style.meander ? "meander" : "raster") + "_" + shape.name,
-                 "generated chessboard of " + significantText(island_size_m, 12) + " m islands over " + shape.source +
-                     ": " + styleText(style) + ", +90 deg on odd islands");
+                      "generated chessboard of " + significantText(island_size_m, 12) + " m islands over " +
+                          shape.source + ": " + styleText(style) + ", +90 deg on odd islands");
   const ShapeClipper clipper(shape);
   for (long j = 0; j < ny; ++j)
     for (long i = 0; i < nx; ++i)
     {
-      const Eigen::Vector2d lo = bounds.min + island_size_m * Eigen::Vector2d(static_cast<double>(i), static_cast<double>(j));
+      const Eigen::Vector2d lo =
+          bounds.min + island_size_m * Eigen::Vector2d(static_cast<double>(i), static_cast<double>(j));
       const Eigen::Vector2d hi = lo + Eigen::Vector2d::Constant(island_size_m);
       const double angle = style.angle_rad + ((i + j) % 2 == 1 ? 0.5 * M_PI : 0.0);
       const Frame frame(angle);
@@ -241,7 +244,8 @@ std::vector<Job> layers(const Shape& shape, const HatchStyle& style, int count, 
     layer_style.angle_rad = layerAngle(style.angle_rad, layer, rotation_rad);
     Job job = hatch(shape, layer_style);
     job.name += "_layer" + std::to_string(layer);
-    job.source += ", layer " + std::to_string(layer) + " (rotation " + significantText(rotation_rad, 12) + " rad per layer)";
+    job.source +=
+        ", layer " + std::to_string(layer) + " (rotation " + significantText(rotation_rad, 12) + " rad per layer)";
     out.push_back(std::move(job));
   }
   return out;

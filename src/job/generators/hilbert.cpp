@@ -54,9 +54,10 @@ Job hilbert(const Shape& shape, int order, const HatchStyle& style)
   const double cell = side / static_cast<double>(n);
   const std::uint64_t cells = static_cast<std::uint64_t>(n) * n;
   MarkJumpBuilder out(style, "hilbert" + std::to_string(order) + "_" + shape.name,
-                 "generated Hilbert curve of order " + std::to_string(order) + " (cell " + significantText(cell, 12) +
-                     " m) clipped to " + shape.source + ": mark " + significantText(style.mark_speed_mps, 12) + " m/s at " +
-                     significantText(style.power_w, 12) + " W, jump " + significantText(style.jump_speed_mps, 12) + " m/s");
+                      "generated Hilbert curve of order " + std::to_string(order) + " (cell " +
+                          significantText(cell, 12) + " m) clipped to " + shape.source + ": mark " +
+                          significantText(style.mark_speed_mps, 12) + " m/s at " + significantText(style.power_w, 12) +
+                          " W, jump " + significantText(style.jump_speed_mps, 12) + " m/s");
   auto centre = [&](std::uint64_t d) -> Eigen::Vector2d {
     std::uint32_t x = 0, y = 0;
     hilbertCell(n, d, x, y);

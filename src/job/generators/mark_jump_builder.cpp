@@ -3,7 +3,9 @@
 namespace scanhead
 {
 MarkJumpBuilder::MarkJumpBuilder(const HatchStyle& style, std::string name, std::string source)
-  : mark_speed_mps_(style.mark_speed_mps), jump_speed_mps_(style.jump_speed_mps), power_w_(style.power_w)
+  : mark_speed_mps_(style.mark_speed_mps)
+  , jump_speed_mps_(style.jump_speed_mps)
+  , power_w_(style.power_w)
 {
   job_.name = std::move(name);
   job_.source = std::move(source);

@@ -1,6 +1,6 @@
+#include "scanhead/job/generators/shape.hpp"
 #include "scanhead/common/number_text.hpp"
 #include "scanhead/common/segment_distance.hpp"
-#include "scanhead/job/generators/shape.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -46,7 +46,6 @@ bool insideRing(const Ring& ring, const Eigen::Vector2d& p)
   return inside;
 }
 
-
 }  // namespace
 
 Shape makeRectangle(double width_m, double height_m, const Eigen::Vector2d& centre_m)
@@ -79,9 +78,9 @@ Shape makeCircle(const Eigen::Vector2d& centre_m, double radius_m, double chord_
   const std::size_t n = std::max<std::size_t>(8, static_cast<std::size_t>(n_real));
   Shape shape;
   shape.name = "circle_r" + fullPrecisionText(radius_m) + "m";
-  shape.source = "circle of radius " + fullPrecisionText(radius_m) + " m centred on (" + fullPrecisionText(centre_m.x()) + ", " +
-                 fullPrecisionText(centre_m.y()) + ") m, " + std::to_string(n) + " vertices (chord tolerance " +
-                 fullPrecisionText(chord_tolerance_m) + " m)";
+  shape.source = "circle of radius " + fullPrecisionText(radius_m) + " m centred on (" +
+                 fullPrecisionText(centre_m.x()) + ", " + fullPrecisionText(centre_m.y()) + ") m, " +
+                 std::to_string(n) + " vertices (chord tolerance " + fullPrecisionText(chord_tolerance_m) + " m)";
   Ring ring(n);
   for (std::size_t k = 0; k < n; ++k)
   {
@@ -102,7 +101,8 @@ Shape makePolygon(std::vector<Ring> rings, const std::string& name, const std::s
     const std::string where = source + ": ring " + std::to_string(r + 1);
     for (const Eigen::Vector2d& p : ring)
       if (!p.allFinite())
-        throw InputError(where + ": vertex (" + fullPrecisionText(p.x()) + ", " + fullPrecisionText(p.y()) + ") is not finite");
+        throw InputError(where + ": vertex (" + fullPrecisionText(p.x()) + ", " + fullPrecisionText(p.y()) +
+                         ") is not finite");
     Ring clean;
     clean.reserve(ring.size());
     for (const Eigen::Vector2d& p : ring)

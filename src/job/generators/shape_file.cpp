@@ -50,9 +50,9 @@ void closeRing(std::vector<RingText>& rings, RingText& current, const std::strin
   if (distinct > 1 && current.points.back() == current.points.front())
     --distinct;
   if (distinct < 3)
-    throw InputError(source + ":" + std::to_string(current.last_line) + ": ring " +
-                     std::to_string(rings.size() + 1) + " (lines " + std::to_string(current.first_line) + "-" +
-                     std::to_string(current.last_line) + ") has " + std::to_string(distinct) +
+    throw InputError(source + ":" + std::to_string(current.last_line) + ": ring " + std::to_string(rings.size() + 1) +
+                     " (lines " + std::to_string(current.first_line) + "-" + std::to_string(current.last_line) +
+                     ") has " + std::to_string(distinct) +
                      " distinct vertices; a closed polygon needs at least 3 lines 'x y' (a blank line starts a "
                      "new ring)");
   double area2 = 0.0;
@@ -65,9 +65,9 @@ void closeRing(std::vector<RingText>& rings, RingText& current, const std::strin
     scale = std::max(scale, a.cwiseAbs().maxCoeff());
   }
   if (!(std::fabs(area2) > 1e-24 * std::max(scale * scale, 1e-30)))
-    throw InputError(source + ":" + std::to_string(current.last_line) + ": ring " +
-                     std::to_string(rings.size() + 1) + " (lines " + std::to_string(current.first_line) + "-" +
-                     std::to_string(current.last_line) + ") encloses no area (all vertices on one line)");
+    throw InputError(source + ":" + std::to_string(current.last_line) + ": ring " + std::to_string(rings.size() + 1) +
+                     " (lines " + std::to_string(current.first_line) + "-" + std::to_string(current.last_line) +
+                     ") encloses no area (all vertices on one line)");
   rings.push_back(std::move(current));
   current = RingText();
 }

@@ -6,8 +6,8 @@
 #include "scanhead/common/config_check.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
-#include "scanhead/job/generators/shape.hpp"
 #include "scanhead/common/segment_distance.hpp"
+#include "scanhead/job/generators/shape.hpp"
 
 namespace scanhead
 {
@@ -109,7 +109,6 @@ bool segmentsCross(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2, const E
   return ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0));
 }
 
-
 /// Minimum distance between two segments: 0 if they cross, else reached at one of the four ends.
 double segmentDistance(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2, const Eigen::Vector2d& q1,
                        const Eigen::Vector2d& q2)
@@ -140,7 +139,8 @@ void checkOffset(const Shape& original, const Shape& result, double d)
     for (std::size_t b = a + 1; b < edges.size(); ++b)
       if (segmentsCross(edges[a].first, edges[a].second, edges[b].first, edges[b].second))
         throw NumericalError(what + " crosses itself near (" + fullPrecisionText(edges[a].first.x()) + ", " +
-                             fullPrecisionText(edges[a].first.y()) + ") m: the offset is larger than a local feature of the shape");
+                             fullPrecisionText(edges[a].first.y()) +
+                             ") m: the offset is larger than a local feature of the shape");
   for (const Ring& ring : result.rings)
     for (const Eigen::Vector2d& p : ring)
       if (!containsPoint(original, p))
@@ -152,7 +152,8 @@ void checkOffset(const Shape& original, const Shape& result, double d)
     for (const Ring& ring : original.rings)
       for (std::size_t i = 0, n = ring.size(); i < n; ++i)
         if (segmentDistance(edge.first, edge.second, ring[i], ring[(i + 1) % n]) < floor_m)
-          throw NumericalError(what + " has an edge from (" + fullPrecisionText(edge.first.x()) + ", " + fullPrecisionText(edge.first.y()) +
+          throw NumericalError(what + " has an edge from (" + fullPrecisionText(edge.first.x()) + ", " +
+                               fullPrecisionText(edge.first.y()) +
                                ") m closer than the offset to the boundary: the offset is larger than a local "
                                "feature of the shape");
 }

@@ -147,8 +147,8 @@ SquareJob makeSquareJob(const SquareJobParams& params, const SquareRecipe& recip
   SquareJob out;
   out.square_count = params.rows * params.columns;
   out.job.name = "thesis_squares";
-  out.job.source = "built-in: THESIS §2.5.1 square grid " + std::to_string(params.rows) + "x" +
-                   std::to_string(params.columns);
+  out.job.source =
+      "built-in: THESIS §2.5.1 square grid " + std::to_string(params.rows) + "x" + std::to_string(params.columns);
   Job& job = out.job;
   auto add = [&](int square, Polyline line) {
     job.polylines.push_back(std::move(line));
@@ -163,9 +163,8 @@ SquareJob makeSquareJob(const SquareJobParams& params, const SquareRecipe& recip
     {
       const int square = row * params.columns + from_right;
       const int col_from_left = params.columns - 1 - from_right;
-      const Eigen::Vector2d centre(
-          params.centre_x_m + (col_from_left - 0.5 * (params.columns - 1)) * pitch,
-          params.centre_y_m + (row - 0.5 * (params.rows - 1)) * pitch);
+      const Eigen::Vector2d centre(params.centre_x_m + (col_from_left - 0.5 * (params.columns - 1)) * pitch,
+                                   params.centre_y_m + (row - 0.5 * (params.rows - 1)) * pitch);
 
       const Points inner = squareContour(centre, inner_half);
       const Points outer = squareContour(centre, outer_half);
@@ -175,9 +174,11 @@ SquareJob makeSquareJob(const SquareJobParams& params, const SquareRecipe& recip
         add(square, makeLine(PolylineType::Jump, recipe.jump_speed_mps, 0.0, {current, inner.front()}));
       }
       first = false;
-      add(square, makeLine(PolylineType::Mark, recipe.contour_mark_speed_mps, params.contour_power_w, inner, PolylineRole::Contour));
+      add(square, makeLine(PolylineType::Mark, recipe.contour_mark_speed_mps, params.contour_power_w, inner,
+                           PolylineRole::Contour));
       add(square, makeLine(PolylineType::Jump, recipe.contour_jump_speed_mps, 0.0, {inner.back(), outer.front()}));
-      add(square, makeLine(PolylineType::Mark, recipe.contour_mark_speed_mps, params.contour_power_w, outer, PolylineRole::Contour));
+      add(square, makeLine(PolylineType::Mark, recipe.contour_mark_speed_mps, params.contour_power_w, outer,
+                           PolylineRole::Contour));
 
       // Serpentine: line k runs low→high for even k, high→low for odd k, so the connectors lie on
       // the right/top edges after even lines and on the bottom/left edges after odd ones.
@@ -201,7 +202,8 @@ SquareJob makeSquareJob(const SquareJobParams& params, const SquareRecipe& recip
       add(square, makeLine(PolylineType::Jump, recipe.jump_speed_mps, 0.0, {outer.back(), hatch.front()}));
       if (!params.hatch_jumps_between_lines)
       {
-        add(square, makeLine(PolylineType::Mark, recipe.hatch_mark_speed_mps, params.hatch_power_w, hatch, PolylineRole::Hatch));
+        add(square, makeLine(PolylineType::Mark, recipe.hatch_mark_speed_mps, params.hatch_power_w, hatch,
+                             PolylineRole::Hatch));
       }
       else
       {

@@ -19,10 +19,19 @@ namespace
 constexpr double kPi = 3.14159265358979323846;
 using Complex = std::complex<double>;
 
-bool positiveFinite(double v) { return v > 0.0 && std::isfinite(v); }
+bool positiveFinite(double v)
+{
+  return v > 0.0 && std::isfinite(v);
+}
 
-double db(Complex v) { return 20.0 * std::log10(std::abs(v)); }
-double deg(double rad) { return rad * 180.0 / kPi; }
+double db(Complex v)
+{
+  return 20.0 * std::log10(std::abs(v));
+}
+double deg(double rad)
+{
+  return rad * 180.0 / kPi;
+}
 
 /// Bins of \p h with 0 < f ≤ max_hz and input power.
 std::vector<std::size_t> fitBins(const FrequencyResponse& h, double max_hz)
@@ -109,8 +118,8 @@ IdentificationResult identifyGalvo(const GalvoPlantParams& truth, const Identifi
   // that its start transient (tiny excitation!) does not leak into the low-frequency lines.
   std::size_t settle = static_cast<std::size_t>(config.settle_periods);
   if (config.position_loop_hz > 0.0)
-    settle = std::max(settle, static_cast<std::size_t>(std::ceil(
-                                  10.0 / (2.0 * kPi * config.position_loop_hz) / (static_cast<double>(period) * t_s))));
+    settle = std::max(settle, static_cast<std::size_t>(std::ceil(10.0 / (2.0 * kPi * config.position_loop_hz) /
+                                                                 (static_cast<double>(period) * t_s))));
   const std::size_t first = period * settle;
   const std::size_t total = first + period * static_cast<std::size_t>(config.averaged_periods);
   // The ramp is centred on angle 0 over the experiment: θref(t) = ramp·(t − total·T/2).
@@ -134,8 +143,7 @@ IdentificationResult identifyGalvo(const GalvoPlantParams& truth, const Identifi
   {
     const double theta = plant.angle();
     const double omega = plant.rigidVelocity();
-    const double volts =
-        prbs.next() + kp * (ramp_start + config.ramp_rad_per_s * static_cast<double>(n) * t_s - theta);
+    const double volts = prbs.next() + kp * (ramp_start + config.ramp_rad_per_s * static_cast<double>(n) * t_s - theta);
     if (n >= first)
     {
       const std::size_t m = n - first;

@@ -16,9 +16,18 @@ namespace
 constexpr double kPi = 3.14159265358979323846;
 using Complex = std::complex<double>;
 
-double db(Complex v) { return 20.0 * std::log10(std::abs(v)); }
-double deg(double rad) { return rad * 180.0 / kPi; }
-std::string num(double v) { return sixDigitText(v); }
+double db(Complex v)
+{
+  return 20.0 * std::log10(std::abs(v));
+}
+double deg(double rad)
+{
+  return rad * 180.0 / kPi;
+}
+std::string num(double v)
+{
+  return sixDigitText(v);
+}
 
 /// A root as YAML: a number if real, else [re, im] (a complex-conjugate pole pair of i/U).
 std::string complexText(Complex v)
@@ -46,11 +55,11 @@ std::string bodeCsv(const IdentificationResult& r, const GalvoPlantParams& truth
     last_f = f;
     const Complex gt = thetaPerCurrent(r.fitted, f), tt = trueThetaPerCurrent(truth, f);
     const Complex gc = currentPerVoltage(r.fitted, f), tc = trueCurrentPerVoltage(truth, f);
-    csv << num(f) << ',' << num(db(t.response[k])) << ',' << num(deg(std::arg(t.response[k]))) << ','
-        << num(db(gt)) << ',' << num(deg(std::arg(gt))) << ',' << num(db(tt)) << ',' << num(deg(std::arg(tt)))
-        << ',' << num(t.coherence[k]) << ',' << num(db(c.response[k])) << ','
-        << num(deg(std::arg(c.response[k]))) << ',' << num(db(gc)) << ',' << num(deg(std::arg(gc))) << ','
-        << num(db(tc)) << ',' << num(deg(std::arg(tc))) << ',' << num(c.coherence[k]) << '\n';
+    csv << num(f) << ',' << num(db(t.response[k])) << ',' << num(deg(std::arg(t.response[k]))) << ',' << num(db(gt))
+        << ',' << num(deg(std::arg(gt))) << ',' << num(db(tt)) << ',' << num(deg(std::arg(tt))) << ','
+        << num(t.coherence[k]) << ',' << num(db(c.response[k])) << ',' << num(deg(std::arg(c.response[k]))) << ','
+        << num(db(gc)) << ',' << num(deg(std::arg(gc))) << ',' << num(db(tc)) << ',' << num(deg(std::arg(tc))) << ','
+        << num(c.coherence[k]) << '\n';
   }
   return csv.str();
 }
@@ -75,8 +84,7 @@ std::string identificationReport(const GalvoPlantParams& truth, const Identifica
     << "  position_loop_hz: " << num(config.position_loop_hz) << "\n"
     << "  position_gain_v_per_rad: " << num(r.position_gain_v_per_rad) << "\n"
     << "  ramp_rad_per_s: " << num(config.ramp_rad_per_s) << "\n"
-    << "  friction: " << (config.zero_friction ? "zero  # Tp = Tc = 0 during the experiment" : "as_configured")
-    << "\n"
+    << "  friction: " << (config.zero_friction ? "zero  # Tp = Tc = 0 during the experiment" : "as_configured") << "\n"
     << "  samples: " << r.samples << "\n"
     << "  angle_range_rad: [" << num(r.angle_min_rad) << ", " << num(r.angle_max_rad) << "]\n"
     << "  velocity_sign_changes: " << r.velocity_sign_changes << "\n"
@@ -92,8 +100,8 @@ std::string identificationReport(const GalvoPlantParams& truth, const Identifica
     << "  tau2_s: " << complexText(r.fitted.tau2()) << "  # [re, im] if a complex pair; true "
     << complexText(r.truth_forms.tau2()) << "\n"
     << "  tau3_s: " << complexText(r.fitted.tau3()) << "  # true " << complexText(r.truth_forms.tau3()) << "\n"
-    << "  theta_current_band_hz: [" << num(r.theta_per_current.frequency_hz[1]) << ", "
-    << num(config.theta_fit_max_hz) << "]\n"
+    << "  theta_current_band_hz: [" << num(r.theta_per_current.frequency_hz[1]) << ", " << num(config.theta_fit_max_hz)
+    << "]\n"
     << "  current_voltage_band_hz: [" << num(r.current_per_voltage.frequency_hz[1]) << ", "
     << num(config.current_fit_max_hz) << "]\n"
     << "  theta_current_rms_residual: " << num(r.theta_fit_rms_residual) << "  # RMS |G/Ĝ − 1|\n"
@@ -125,8 +133,9 @@ std::string identificationReport(const GalvoPlantParams& truth, const Identifica
   y << "warnings:";
   std::string warnings;
   if (r.theta_per_current.frequency_hz[1] > 1.0 / (2.0 * kPi * r.fitted.tau1_s))
-    warnings += "\n  - lowest line above the mechanical corner 1/(2 pi tau1): B and Jeq poorly determined; "
-                "raise prbs.order or prbs.clock_divider";
+    warnings +=
+        "\n  - lowest line above the mechanical corner 1/(2 pi tau1): B and Jeq poorly determined; "
+        "raise prbs.order or prbs.clock_divider";
   if (r.velocity_sign_changes > 0)
     warnings += "\n  - the rotor speed changed sign " + std::to_string(r.velocity_sign_changes) +
                 " times: Coulomb friction made the plant nonlinear (raise ramp_rad_per_s or lower the amplitude)";

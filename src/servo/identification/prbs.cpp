@@ -16,12 +16,11 @@ constexpr int kMaxOrder = 24;
 
 /// Taps (1-based register stages) of maximal-length LFSRs, Xilinx XAPP052 Table 3; index = order.
 /// Every entry is checked by test_prbs (full period for all orders 2..24).
-const int kTaps[kMaxOrder + 1][4] = {
-    {0, 0, 0, 0},     {0, 0, 0, 0},     {2, 1, 0, 0},     {3, 2, 0, 0},     {4, 3, 0, 0},
-    {5, 3, 0, 0},     {6, 5, 0, 0},     {7, 6, 0, 0},     {8, 6, 5, 4},     {9, 5, 0, 0},
-    {10, 7, 0, 0},    {11, 9, 0, 0},    {12, 6, 4, 1},    {13, 4, 3, 1},    {14, 5, 3, 1},
-    {15, 14, 0, 0},   {16, 15, 13, 4},  {17, 14, 0, 0},   {18, 11, 0, 0},   {19, 6, 2, 1},
-    {20, 17, 0, 0},   {21, 19, 0, 0},   {22, 21, 0, 0},   {23, 18, 0, 0},   {24, 23, 22, 17}};
+const int kTaps[kMaxOrder + 1][4] = {{0, 0, 0, 0},   {0, 0, 0, 0},    {2, 1, 0, 0},   {3, 2, 0, 0},   {4, 3, 0, 0},
+                                     {5, 3, 0, 0},   {6, 5, 0, 0},    {7, 6, 0, 0},   {8, 6, 5, 4},   {9, 5, 0, 0},
+                                     {10, 7, 0, 0},  {11, 9, 0, 0},   {12, 6, 4, 1},  {13, 4, 3, 1},  {14, 5, 3, 1},
+                                     {15, 14, 0, 0}, {16, 15, 13, 4}, {17, 14, 0, 0}, {18, 11, 0, 0}, {19, 6, 2, 1},
+                                     {20, 17, 0, 0}, {21, 19, 0, 0},  {22, 21, 0, 0}, {23, 18, 0, 0}, {24, 23, 22, 17}};
 
 }  // namespace
 
@@ -35,7 +34,8 @@ void PrbsConfig::validate(const std::string& prefix) const
     failSetting(prefix + ".amplitude", "> 0 and finite", amplitude);
 }
 
-Prbs::Prbs(const PrbsConfig& config) : config_(config)
+Prbs::Prbs(const PrbsConfig& config)
+  : config_(config)
 {
   config_.validate("prbs");
   period_bits_ = (std::size_t{1} << config_.order) - 1;

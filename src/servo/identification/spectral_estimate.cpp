@@ -15,7 +15,10 @@ namespace
 constexpr double kPi = 3.14159265358979323846;
 using Complex = std::complex<double>;
 
-bool isPowerOfTwo(std::size_t n) { return n != 0 && (n & (n - 1)) == 0; }
+bool isPowerOfTwo(std::size_t n)
+{
+  return n != 0 && (n & (n - 1)) == 0;
+}
 
 /// In-place iterative radix-2 FFT (n a power of two); inverse without the 1/n scaling.
 void fftRadix2(std::vector<Complex>& a, bool inverse)

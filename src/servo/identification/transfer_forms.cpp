@@ -13,7 +13,10 @@ namespace
 constexpr double kPi = 3.14159265358979323846;
 using Complex = std::complex<double>;
 
-bool positiveFinite(double v) { return v > 0.0 && std::isfinite(v); }
+bool positiveFinite(double v)
+{
+  return v > 0.0 && std::isfinite(v);
+}
 }  // namespace
 
 Complex TransferForms::tau2() const
@@ -49,16 +52,16 @@ PhysicalParams recoverPhysicalParams(const TransferForms& forms)
   const double a = forms.tau1_s;
   const Complex c = 1.0 / (forms.g2_a_per_v * a * r1 * r2);
   const Complex b = (a * c * (r1 + r2) - c) / a;
-  const Complex d = ((b * a + c) * (b * a + c) - 4.0 * a * c * b - (a * c) * (a * c) * (r1 - r2) * (r1 - r2)) /
-                    (4.0 * a * c);
+  const Complex d =
+      ((b * a + c) * (b * a + c) - 4.0 * a * c * b - (a * c) * (a * c) * (r1 - r2) * (r1 - r2)) / (4.0 * a * c);
   PhysicalParams out;
   out.inductance_h = c.real();
   out.resistance_ohm = b.real();
   out.torque_constant_nm_per_a = d.real() / forms.g1_rad_per_as;
   out.viscous_nms = out.torque_constant_nm_per_a / forms.g1_rad_per_as;
   out.inertia_kgm2 = a * out.viscous_nms;
-  for (double v : {out.inductance_h, out.resistance_ohm, out.torque_constant_nm_per_a, out.viscous_nms,
-                   out.inertia_kgm2})
+  for (double v :
+       {out.inductance_h, out.resistance_ohm, out.torque_constant_nm_per_a, out.viscous_nms, out.inertia_kgm2})
     if (!positiveFinite(v))
     {
       std::ostringstream msg;
@@ -110,7 +113,7 @@ Complex currentPerVoltageZoh(const TransferForms& m, double f_hz, double period_
   const Complex r2 = m.g2_a_per_v * (1.0 + m.tau1_s * p2) / (p2 * pi * (p2 - p3));
   const Complex r3 = m.g2_a_per_v * (1.0 + m.tau1_s * p3) / (p3 * pi * (p3 - p2));
   const Complex zinv = std::polar(1.0, -2.0 * kPi * f_hz * period_s);
-  return m.g2_a_per_v + (1.0 - zinv) * (r2 / (1.0 - std::exp(p2 * period_s) * zinv) +
-                                        r3 / (1.0 - std::exp(p3 * period_s) * zinv));
+  return m.g2_a_per_v +
+         (1.0 - zinv) * (r2 / (1.0 - std::exp(p2 * period_s) * zinv) + r3 / (1.0 - std::exp(p3 * period_s) * zinv));
 }
 }  // namespace scanhead

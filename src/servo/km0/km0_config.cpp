@@ -75,7 +75,9 @@ class Section
 {
 public:
   Section(const YAML::Node& node, const std::string& source, const std::string& name)
-    : node_(node), source_(source), name_(name)
+    : node_(node)
+    , source_(source)
+    , name_(name)
   {
     if (node_ && !node_.IsMap())
       throw InputError(where(node_, source_, name_) + ": expected a map");
@@ -130,7 +132,8 @@ void Km0MetricConfig::validate() const
 
 void Km0Thresholds::validate() const
 {
-  visitLimits(*this, [](const char* name, const Km0Limit& l) { requireLimit(l, std::string("km0.thresholds.") + name); });
+  visitLimits(*this,
+              [](const char* name, const Km0Limit& l) { requireLimit(l, std::string("km0.thresholds.") + name); });
 }
 
 void Km0FrictionBaseline::validate() const
@@ -184,21 +187,36 @@ Km0Config km0ConfigFromYaml(const std::string& yaml_text, const std::string& sou
       Km0SignalConfig& s = c.signal;
       sec.each([&](const std::string& k, const YAML::Node& v) {
         const std::string key = sec.key(k);
-        if (k == "joint_lower_rad") s.joint_lower_rad = num(v, key);
-        else if (k == "joint_upper_rad") s.joint_upper_rad = num(v, key);
-        else if (k == "range_margin_deg") s.range_margin_deg = num(v, key);
-        else if (k == "max_speed_radps") s.max_speed_radps = num(v, key);
-        else if (k == "fir_t1_s") s.fir_t1_s = num(v, key);
-        else if (k == "fir_t2_s") s.fir_t2_s = num(v, key);
-        else if (k == "small_steps_deg") s.small_steps_deg = list(v, key);
-        else if (k == "large_steps_deg") s.large_steps_deg = list(v, key);
-        else if (k == "ramp_speeds_radps") s.ramp_speeds_radps = list(v, key);
-        else if (k == "ramp_duration_s") s.ramp_duration_s = num(v, key);
-        else if (k == "min_ramp_duration_s") s.min_ramp_duration_s = num(v, key);
-        else if (k == "step_hold_s") s.step_hold_s = num(v, key);
-        else if (k == "ramp_hold_s") s.ramp_hold_s = num(v, key);
-        else if (k == "start_hold_s") s.start_hold_s = num(v, key);
-        else return false;
+        if (k == "joint_lower_rad")
+          s.joint_lower_rad = num(v, key);
+        else if (k == "joint_upper_rad")
+          s.joint_upper_rad = num(v, key);
+        else if (k == "range_margin_deg")
+          s.range_margin_deg = num(v, key);
+        else if (k == "max_speed_radps")
+          s.max_speed_radps = num(v, key);
+        else if (k == "fir_t1_s")
+          s.fir_t1_s = num(v, key);
+        else if (k == "fir_t2_s")
+          s.fir_t2_s = num(v, key);
+        else if (k == "small_steps_deg")
+          s.small_steps_deg = list(v, key);
+        else if (k == "large_steps_deg")
+          s.large_steps_deg = list(v, key);
+        else if (k == "ramp_speeds_radps")
+          s.ramp_speeds_radps = list(v, key);
+        else if (k == "ramp_duration_s")
+          s.ramp_duration_s = num(v, key);
+        else if (k == "min_ramp_duration_s")
+          s.min_ramp_duration_s = num(v, key);
+        else if (k == "step_hold_s")
+          s.step_hold_s = num(v, key);
+        else if (k == "ramp_hold_s")
+          s.ramp_hold_s = num(v, key);
+        else if (k == "start_hold_s")
+          s.start_hold_s = num(v, key);
+        else
+          return false;
         return true;
       });
       return true;
@@ -208,10 +226,14 @@ Km0Config km0ConfigFromYaml(const std::string& yaml_text, const std::string& sou
       Section sec(node, source, "metric");
       sec.each([&](const std::string& k, const YAML::Node& v) {
         const std::string key = sec.key(k);
-        if (k == "start_threshold_deg") c.metric.start_threshold_deg = num(v, key);
-        else if (k == "settling_band") c.metric.settling_band = num(v, key);
-        else if (k == "plane_mm_per_deg") c.metric.plane_mm_per_deg = num(v, key);
-        else return false;
+        if (k == "start_threshold_deg")
+          c.metric.start_threshold_deg = num(v, key);
+        else if (k == "settling_band")
+          c.metric.settling_band = num(v, key);
+        else if (k == "plane_mm_per_deg")
+          c.metric.plane_mm_per_deg = num(v, key);
+        else
+          return false;
         return true;
       });
       return true;
@@ -227,9 +249,12 @@ Km0Config km0ConfigFromYaml(const std::string& yaml_text, const std::string& sou
           known = true;
           Section pair(v, source, sec.key(k));
           pair.each([&](const std::string& which, const YAML::Node& value) {
-            if (which == "watch") limit.watch = num(value, pair.key(which));
-            else if (which == "intervene") limit.intervene = num(value, pair.key(which));
-            else return false;
+            if (which == "watch")
+              limit.watch = num(value, pair.key(which));
+            else if (which == "intervene")
+              limit.intervene = num(value, pair.key(which));
+            else
+              return false;
             return true;
           });
         });
@@ -248,11 +273,16 @@ Km0Config km0ConfigFromYaml(const std::string& yaml_text, const std::string& sou
             throw InputError(where(v, source, key) + ": expected true or false");
           c.baseline.from_servo = v.Scalar() == "true";
         }
-        else if (k == "viscous_nms") c.baseline.viscous_nms = num(v, key);
-        else if (k == "offset_torque_nm") c.baseline.offset_torque_nm = num(v, key);
-        else if (k == "coulomb_torque_nm") c.baseline.coulomb_torque_nm = num(v, key);
-        else if (k == "reference_floor_nm") c.baseline.reference_floor_nm = num(v, key);
-        else return false;
+        else if (k == "viscous_nms")
+          c.baseline.viscous_nms = num(v, key);
+        else if (k == "offset_torque_nm")
+          c.baseline.offset_torque_nm = num(v, key);
+        else if (k == "coulomb_torque_nm")
+          c.baseline.coulomb_torque_nm = num(v, key);
+        else if (k == "reference_floor_nm")
+          c.baseline.reference_floor_nm = num(v, key);
+        else
+          return false;
         return true;
       });
       return true;

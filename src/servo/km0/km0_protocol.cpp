@@ -28,8 +28,8 @@ struct Command
   Km0PhaseKind kind;
   double to_rad;
   double speed_radps;
-  double hold_s;       ///< phase duration [s]
-  double steady_s;     ///< length of the steady window at the phase's end [s]
+  double hold_s;    ///< phase duration [s]
+  double steady_s;  ///< length of the steady window at the phase's end [s]
 };
 
 std::size_t samplesFor(double duration_s, double period_s)
@@ -419,7 +419,8 @@ Km0Results measureKm0(const Km0Signal& signal, const Km0Response& response, cons
   {
     if (phase.kind == Km0PhaseKind::SmallStep || phase.kind == Km0PhaseKind::LargeStep)
     {
-      Km0StepMetrics m = measureStep(response.position_rad, phase, signal.period_s, threshold_rad, metric.settling_band);
+      Km0StepMetrics m =
+          measureStep(response.position_rad, phase, signal.period_s, threshold_rad, metric.settling_band);
       m.setpoint_limited = std::any_of(signal.limited.begin() + static_cast<std::ptrdiff_t>(phase.begin),
                                        signal.limited.begin() + static_cast<std::ptrdiff_t>(phase.end),
                                        [](unsigned char c) { return c != 0; });

@@ -97,11 +97,12 @@ std::vector<Graded> gradeStep(const Km0StepMetrics& s, const Km0Thresholds& t, d
 
 std::vector<Graded> gradeRamp(const Km0RampMetrics& r, const RampDerived& d, const Km0Thresholds& t)
 {
-  return {{"lag_s", d.lag_s, km0Verdict(d.lag_s, t.ramp_lag_s)},
-          {"speed_error_pct", std::abs(d.speed_error_pct), km0Verdict(std::abs(d.speed_error_pct), t.ramp_speed_error_pct)},
-          {"speed_settling_s", r.speed_settling_time_s, km0Verdict(r.speed_settling_time_s, t.ramp_speed_settling_s)},
-          {"friction_excess_pct", std::abs(d.friction_excess_pct),
-           km0Verdict(std::abs(d.friction_excess_pct), t.ramp_friction_excess_pct)}};
+  return {
+      {"lag_s", d.lag_s, km0Verdict(d.lag_s, t.ramp_lag_s)},
+      {"speed_error_pct", std::abs(d.speed_error_pct), km0Verdict(std::abs(d.speed_error_pct), t.ramp_speed_error_pct)},
+      {"speed_settling_s", r.speed_settling_time_s, km0Verdict(r.speed_settling_time_s, t.ramp_speed_settling_s)},
+      {"friction_excess_pct", std::abs(d.friction_excess_pct),
+       km0Verdict(std::abs(d.friction_excess_pct), t.ramp_friction_excess_pct)}};
 }
 
 Km0Verdict worst(const std::vector<Graded>& g)
@@ -119,7 +120,6 @@ std::string verdictMap(const std::vector<Graded>& g)
     out += std::string(i ? ", " : "") + g[i].name + ": " + km0VerdictName(g[i].verdict);
   return out + "}";
 }
-
 
 /// True if the following error at the ramp ends increases with |speed| (ramps sorted by speed;
 /// equal speeds, up and down, are averaged).
@@ -210,8 +210,8 @@ Km0Verdict km0OverallVerdict(const Km0Results& results, const Km0Config& config,
   return w;
 }
 
-std::string km0ReportYaml(const Km0Results& results, const Km0Config& config, const Km0AxisInfo& info,
-                          double period_s, const std::vector<std::string>& files)
+std::string km0ReportYaml(const Km0Results& results, const Km0Config& config, const Km0AxisInfo& info, double period_s,
+                          const std::vector<std::string>& files)
 {
   const Km0FrictionBaseline b = km0Baseline(config, info);
   const double mm = config.metric.plane_mm_per_deg;
@@ -233,9 +233,9 @@ std::string km0ReportYaml(const Km0Results& results, const Km0Config& config, co
       const double a_deg = (s.command_to_rad - s.command_from_rad) * kDegPerRad;
       body << "  - {t_s: " << num(s.begin_time_s) << ", amplitude_deg: " << num(a_deg)
            << ", amplitude_mm: " << num(a_deg * mm) << ", command_to_deg: " << num(s.command_to_rad * kDegPerRad)
-           << ", steady_deg: " << num(s.steady_rad * kDegPerRad) << ", steady_mm: " << num(s.steady_rad * kDegPerRad * mm)
-           << ", start_delay_s: " << num(s.start_delay_s) << ", overshoot_pct: " << num(s.overshoot_pct)
-           << ", settling_time_s: " << num(s.settling_time_s);
+           << ", steady_deg: " << num(s.steady_rad * kDegPerRad)
+           << ", steady_mm: " << num(s.steady_rad * kDegPerRad * mm) << ", start_delay_s: " << num(s.start_delay_s)
+           << ", overshoot_pct: " << num(s.overshoot_pct) << ", settling_time_s: " << num(s.settling_time_s);
       if (kind == Km0PhaseKind::LargeStep)
         body << ", settling_excess_s: " << num(g[2].value);
       body << ", static_error_deg: " << num(s.static_error_rad * kDegPerRad)
@@ -288,11 +288,13 @@ std::string km0ReportYaml(const Km0Results& results, const Km0Config& config, co
     << "torque_constant_nm_per_a: " << num(info.torque_constant_nm_per_a) << "\n"
     << "axis_friction: {viscous_nms: " << num(info.viscous_nms) << ", offset_torque_nm: " << num(info.offset_torque_nm)
     << ", coulomb_torque_nm: " << num(info.coulomb_torque_nm) << "}\n"
-    << "baseline_friction: {from_servo: " << (b.from_servo ? "true" : "false") << ", viscous_nms: " << num(b.viscous_nms)
-    << ", offset_torque_nm: " << num(b.offset_torque_nm) << ", coulomb_torque_nm: " << num(b.coulomb_torque_nm)
-    << ", reference_floor_nm: " << num(b.reference_floor_nm) << "}\n"
-    << "signal: {max_speed_radps: " << num(config.signal.max_speed_radps) << ", fir_t1_s: " << num(config.signal.fir_t1_s)
-    << ", fir_t2_s: " << num(config.signal.fir_t2_s) << ", joint_lower_rad: " << num(config.signal.joint_lower_rad)
+    << "baseline_friction: {from_servo: " << (b.from_servo ? "true" : "false")
+    << ", viscous_nms: " << num(b.viscous_nms) << ", offset_torque_nm: " << num(b.offset_torque_nm)
+    << ", coulomb_torque_nm: " << num(b.coulomb_torque_nm) << ", reference_floor_nm: " << num(b.reference_floor_nm)
+    << "}\n"
+    << "signal: {max_speed_radps: " << num(config.signal.max_speed_radps)
+    << ", fir_t1_s: " << num(config.signal.fir_t1_s) << ", fir_t2_s: " << num(config.signal.fir_t2_s)
+    << ", joint_lower_rad: " << num(config.signal.joint_lower_rad)
     << ", joint_upper_rad: " << num(config.signal.joint_upper_rad) << "}\n"
     << "metric: {start_threshold_deg: " << num(config.metric.start_threshold_deg)
     << ", settling_band: " << num(config.metric.settling_band) << ", plane_mm_per_deg: " << num(mm) << "}\n"
@@ -395,8 +397,8 @@ std::string km0Report(const ServoConfig& servo, int axis, double period_s, const
   if (plots)
   {
     plots(dir.string());
-    for (const char* png : {"km0_signal.png", "km0_ramps.png", "km0_steps.png", "km0_friction.png",
-                            "km0_following_error.png"})
+    for (const char* png :
+         {"km0_signal.png", "km0_ramps.png", "km0_steps.png", "km0_friction.png", "km0_following_error.png"})
     {
       if (fs::exists(dir / png))
         files.push_back(png);

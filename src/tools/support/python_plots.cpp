@@ -30,7 +30,7 @@ bool runPythonScript(const std::string& script, const std::vector<std::string>& 
 
 PlotHook pythonPlotHook(const std::string& script, const std::string& what)
 {
-  return [script, what](const std::string& dir) { runPythonScript(script, { dir }, what); };
+  return [script, what](const std::string& dir) { runPythonScript(script, {dir}, what); };
 }
 
 PlotHook plotFinisher()

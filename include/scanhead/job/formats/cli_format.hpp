@@ -44,10 +44,10 @@ namespace scanhead
 /// \brief How a CLI file becomes a Job.
 struct CliReadOptions
 {
-  int layer = 0;                 ///< layer index in file order (not z); -1: all layers, in order
-  double mark_speed_mps = 1.0;   ///< mark speed [m/s] until a $$SPEED line
-  double jump_speed_mps = 4.5;   ///< speed of the explicit jumps inserted between marks [m/s]
-  double mark_power_w = 200.0;   ///< mark power [W] until a $$POWER line
+  int layer = 0;                ///< layer index in file order (not z); -1: all layers, in order
+  double mark_speed_mps = 1.0;  ///< mark speed [m/s] until a $$SPEED line
+  double jump_speed_mps = 4.5;  ///< speed of the explicit jumps inserted between marks [m/s]
+  double mark_power_w = 200.0;  ///< mark power [W] until a $$POWER line
 
   /// \brief \throws ConfigError naming cam.layer, cam.mark_speed_mps, ... and the value
   void validate() const;

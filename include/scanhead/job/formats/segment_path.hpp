@@ -50,8 +50,8 @@ namespace scanhead
 {
 struct SegmentReadOptions
 {
-  double unit_m = 1.0;     ///< length of one file unit [m]: 1 (m) or 1e-3 (mm); finite, > 0
-  double power_w = 200.0;  ///< nominal power [W]: a row's power = coefficient × this; finite, >= 0
+  double unit_m = 1.0;       ///< length of one file unit [m]: 1 (m) or 1e-3 (mm); finite, > 0
+  double power_w = 200.0;    ///< nominal power [W]: a row's power = coefficient × this; finite, >= 0
   bool exact_count = false;  ///< true: the header's count must equal the number of rows
 
   /// \brief \throws ConfigError naming segment.unit_m or segment.power_w and the value

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "scanhead/job/scan_job.hpp"
 #include "scanhead/job/generators/thesis_square_job.hpp"
+#include "scanhead/job/scan_job.hpp"
 
 namespace scanhead
 {

@@ -23,20 +23,20 @@
 
 #include <vector>
 
-#include "scanhead/job/scan_job.hpp"
 #include "scanhead/job/generators/shape.hpp"
+#include "scanhead/job/scan_job.hpp"
 
 namespace scanhead
 {
 /// \brief Hatch parameters and the recipe the marks and jumps are made with.
 struct HatchStyle
 {
-  double spacing_m = 100e-6;     ///< hatch distance h between neighbouring lines [m], > 0
-  double angle_rad = 0.0;        ///< hatch direction θ from +x, counter-clockwise [rad]
-  bool meander = true;           ///< true: serpentine; false: unidirectional raster
-  double mark_speed_mps = 1.0;   ///< marking speed [m/s], > 0
-  double jump_speed_mps = 4.5;   ///< jump speed [m/s], > 0
-  double power_w = 200.0;        ///< laser power on marks [W], >= 0
+  double spacing_m = 100e-6;    ///< hatch distance h between neighbouring lines [m], > 0
+  double angle_rad = 0.0;       ///< hatch direction θ from +x, counter-clockwise [rad]
+  bool meander = true;          ///< true: serpentine; false: unidirectional raster
+  double mark_speed_mps = 1.0;  ///< marking speed [m/s], > 0
+  double jump_speed_mps = 4.5;  ///< jump speed [m/s], > 0
+  double power_w = 200.0;       ///< laser power on marks [W], >= 0
 
   /// \throws ConfigError "hatch.<field> must be … (got …)"
   void validate() const;

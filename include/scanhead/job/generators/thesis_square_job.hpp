@@ -28,17 +28,17 @@ namespace scanhead
 /// \brief Geometry and powers of the square grid (SI units).
 struct SquareJobParams
 {
-  int rows = 15;                       ///< squares per column (rows of the grid), >= 1
-  int columns = 20;                    ///< squares per row, >= 1
-  double side_m = 0.010;               ///< side of a square = of its outer contour [m]
-  double gap_m = 0.005;                ///< gap between neighbouring squares [m] (pitch = side + gap)
-  double centre_x_m = 0.0;             ///< centre of the grid [m]
-  double centre_y_m = 0.0;             ///< centre of the grid [m]
-  double contour_offset_m = 100e-6;    ///< inner contour inset from the outer contour [m]
-  double hatch_inset_m = 50e-6;        ///< hatch region inset from the inner contour [m]
-  double hatch_spacing_m = 100e-6;     ///< distance between neighbouring hatch lines [m]
-  double contour_power_w = 200.0;      ///< laser power on both contours [W]
-  double hatch_power_w = 200.0;        ///< laser power on the hatch [W]
+  int rows = 15;                     ///< squares per column (rows of the grid), >= 1
+  int columns = 20;                  ///< squares per row, >= 1
+  double side_m = 0.010;             ///< side of a square = of its outer contour [m]
+  double gap_m = 0.005;              ///< gap between neighbouring squares [m] (pitch = side + gap)
+  double centre_x_m = 0.0;           ///< centre of the grid [m]
+  double centre_y_m = 0.0;           ///< centre of the grid [m]
+  double contour_offset_m = 100e-6;  ///< inner contour inset from the outer contour [m]
+  double hatch_inset_m = 50e-6;      ///< hatch region inset from the inner contour [m]
+  double hatch_spacing_m = 100e-6;   ///< distance between neighbouring hatch lines [m]
+  double contour_power_w = 200.0;    ///< laser power on both contours [W]
+  double hatch_power_w = 200.0;      ///< laser power on the hatch [W]
   /// false: the serpentine is one MARK polyline whose short connectors run along the hatch
   /// region's edge (zig-zag); true: every hatch line is its own MARK polyline and the connectors
   /// are JUMPs at the recipe's jump_speed_mps.

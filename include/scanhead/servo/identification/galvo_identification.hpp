@@ -40,18 +40,18 @@ namespace scanhead
 /// form (the driver holds U over T), τ1 taken from the θ/i fit. Initial guesses from asymptotes.
 struct IdentificationConfig
 {
-  PrbsConfig prbs{16, 1, 1.0e-3};    ///< order, clock divider, amplitude [V] (small: see ramp)
-  double sample_period_s = 1.0e-5;   ///< T [s], the controller / sampling rate
-  int settle_periods = 1;            ///< PRBS periods discarded (transient), raised to cover 10 loop time constants
-  int averaged_periods = 3;          ///< P, Welch segments (one PRBS period each)
+  PrbsConfig prbs{16, 1, 1.0e-3};   ///< order, clock divider, amplitude [V] (small: see ramp)
+  double sample_period_s = 1.0e-5;  ///< T [s], the controller / sampling rate
+  int settle_periods = 1;           ///< PRBS periods discarded (transient), raised to cover 10 loop time constants
+  int averaged_periods = 3;         ///< P, Welch segments (one PRBS period each)
   SpectralWindow window = SpectralWindow::Rectangular;
-  double position_loop_hz = 2.0;     ///< crossover of the stabilising P loop [Hz]; 0 = open loop
-  double ramp_rad_per_s = 0.05;      ///< slope of the loop's setpoint ramp [rad/s]; the PRBS speed
-                                     ///< ripple (≈ ±0.012 rad/s per mV on the default Y galvo) must stay below it
-  bool zero_friction = false;        ///< run with Tp = Tc = 0 (else as configured)
-  double theta_fit_max_hz = 3000.0;  ///< upper end of the θ/i fit band [Hz]
+  double position_loop_hz = 2.0;        ///< crossover of the stabilising P loop [Hz]; 0 = open loop
+  double ramp_rad_per_s = 0.05;         ///< slope of the loop's setpoint ramp [rad/s]; the PRBS speed
+                                        ///< ripple (≈ ±0.012 rad/s per mV on the default Y galvo) must stay below it
+  bool zero_friction = false;           ///< run with Tp = Tc = 0 (else as configured)
+  double theta_fit_max_hz = 3000.0;     ///< upper end of the θ/i fit band [Hz]
   double current_fit_max_hz = 20000.0;  ///< upper end of the i/U fit band [Hz]
-  double bode_check_max_hz = 2000.0; ///< band of the fitted-vs-true Bode comparison [Hz]
+  double bode_check_max_hz = 2000.0;    ///< band of the fitted-vs-true Bode comparison [Hz]
 
   /// \throws ConfigError "identification.<field> ..." naming the value
   void validate() const;
@@ -63,7 +63,7 @@ struct IdentificationResult
   FrequencyResponse theta_per_current;    ///< measured θ/i [rad/A] (H1, coherence of Δθ vs i)
   FrequencyResponse current_per_voltage;  ///< measured i/U [A/V]
   TransferForms fitted;
-  TransferForms truth_forms;              ///< transferFormsOf(truth)
+  TransferForms truth_forms;  ///< transferFormsOf(truth)
   PhysicalParams identified;
   PhysicalParams truth;
   double theta_fit_rms_residual = 0.0;    ///< RMS of |G/Ĝ − 1| over the θ/i fit band
@@ -74,12 +74,13 @@ struct IdentificationResult
   double theta_bode_max_error_deg = 0.0;  ///< same for the phase [deg]
   double current_bode_max_error_db = 0.0;
   double current_bode_max_error_deg = 0.0;
-  std::size_t samples = 0;                ///< simulated samples
-  int settle_periods = 0;                 ///< periods discarded (settle_periods, raised to 10 loop time constants)
+  std::size_t samples = 0;  ///< simulated samples
+  int settle_periods = 0;   ///< periods discarded (settle_periods, raised to 10 loop time constants)
   double angle_min_rad = 0.0, angle_max_rad = 0.0;  ///< excursion during the experiment
-  std::size_t velocity_sign_changes = 0;  ///< sign changes of the rigid speed ω_r in the averaged part (where Coulomb friction flips)
-  std::size_t saturated_samples = 0;      ///< samples with |U| beyond the supply (nonlinear)
-  double position_gain_v_per_rad = 0.0;   ///< Kp of the stabilising loop [V/rad]
+  std::size_t velocity_sign_changes =
+      0;  ///< sign changes of the rigid speed ω_r in the averaged part (where Coulomb friction flips)
+  std::size_t saturated_samples = 0;     ///< samples with |U| beyond the supply (nonlinear)
+  double position_gain_v_per_rad = 0.0;  ///< Kp of the stabilising loop [V/rad]
 };
 
 /// \brief Runs the experiment on GalvoPlant(\p truth), estimates, fits, recovers.

@@ -13,9 +13,9 @@ namespace scanhead
 /// \brief Parameters of a PRBS excitation.
 struct PrbsConfig
 {
-  int order = 16;              ///< n, shift-register length; period 2^n − 1 bits (2 ≤ n ≤ 24)
-  int clock_divider = 1;       ///< samples per bit (the PRBS clock is the sample rate / this)
-  double amplitude = 1.0;      ///< output levels ±amplitude (unit of the excited quantity, e.g. V)
+  int order = 16;          ///< n, shift-register length; period 2^n − 1 bits (2 ≤ n ≤ 24)
+  int clock_divider = 1;   ///< samples per bit (the PRBS clock is the sample rate / this)
+  double amplitude = 1.0;  ///< output levels ±amplitude (unit of the excited quantity, e.g. V)
 
   /// \throws ConfigError "<prefix>.<field> must be ..." (order in [2, 24], clock_divider ≥ 1,
   /// amplitude > 0 and finite)
@@ -51,7 +51,7 @@ private:
   std::size_t period_bits_ = 0;
   std::uint32_t feedback_mask_ = 0;  ///< taps as bits 0..n-1 (bit k-1 for tap k)
   std::uint32_t state_ = 0;
-  int hold_ = 0;                     ///< samples left of the current bit
+  int hold_ = 0;  ///< samples left of the current bit
   double level_ = 0.0;
 };
 }  // namespace scanhead

@@ -22,7 +22,7 @@ struct WelchConfig
   std::size_t segment_length = 4096;  ///< D [samples], any length ≥ 8 (FFT by Bluestein if not 2^k)
   std::size_t overlap = 2048;         ///< D − S [samples], < segment_length
   SpectralWindow window = SpectralWindow::Hann;
-  double sample_period_s = 1.0e-5;    ///< T_ech [s]
+  double sample_period_s = 1.0e-5;  ///< T_ech [s]
 
   /// \throws ConfigError "<prefix>.<field> ..." (segment_length ≥ 8, overlap < segment_length,
   /// sample_period_s > 0)
@@ -32,11 +32,11 @@ struct WelchConfig
 /// \brief One-sided frequency response estimate on the DFT bins k = 0 … D/2.
 struct FrequencyResponse
 {
-  std::vector<double> frequency_hz;             ///< f_k = k / (D·T) [Hz]
-  std::vector<std::complex<double>> response;   ///< H1(f_k) = Φuy/Φuu (0 where Φuu = 0)
-  std::vector<double> coherence;                ///< γ²(f_k) = |Φuy|² / (Φuu Φyy) in [0, 1]
-  std::vector<double> input_psd;                ///< Φuu(f_k) [unit(u)²/Hz], one-sided
-  std::size_t segments = 0;                     ///< P, number of averaged segments
+  std::vector<double> frequency_hz;            ///< f_k = k / (D·T) [Hz]
+  std::vector<std::complex<double>> response;  ///< H1(f_k) = Φuy/Φuu (0 where Φuu = 0)
+  std::vector<double> coherence;               ///< γ²(f_k) = |Φuy|² / (Φuu Φyy) in [0, 1]
+  std::vector<double> input_psd;               ///< Φuu(f_k) [unit(u)²/Hz], one-sided
+  std::size_t segments = 0;                    ///< P, number of averaged segments
 };
 
 /// \brief H1 estimate of the response from \p u to \p y (THESIS app. A.2):

@@ -40,11 +40,11 @@ struct TransferForms
 /// \brief The five physical parameters the identification recovers.
 struct PhysicalParams
 {
-  double resistance_ohm = 0.0;             ///< R [Ω]
-  double inductance_h = 0.0;               ///< L [H]
-  double torque_constant_nm_per_a = 0.0;   ///< Kc = Ke [N·m/A]
-  double viscous_nms = 0.0;                ///< B [N·m·s/rad]
-  double inertia_kgm2 = 0.0;               ///< Jeq [kg·m²]
+  double resistance_ohm = 0.0;            ///< R [Ω]
+  double inductance_h = 0.0;              ///< L [H]
+  double torque_constant_nm_per_a = 0.0;  ///< Kc = Ke [N·m/A]
+  double viscous_nms = 0.0;               ///< B [N·m·s/rad]
+  double inertia_kgm2 = 0.0;              ///< Jeq [kg·m²]
 };
 
 /// \brief (G1, τ1, G2, σ, π) of a plant's base model, from the relations in the file comment.

@@ -27,11 +27,13 @@ struct Km0SignalConfig
   std::vector<double> small_steps_deg = {0.02, 0.05, 0.1, 0.2};  ///< up then down from the range centre [deg]
   std::vector<double> large_steps_deg = {2.0, 5.0, 10.0, 15.0};  ///< centred on the range centre, up then down [deg]
   std::vector<double> ramp_speeds_radps = {0.5, 1.0, 2.0, 4.0, 6.0, 8.0, 10.0, 12.5, 15.0, 17.5, 20.0, 22.5, 25.0};
-  double ramp_duration_s = 10.0e-3;  ///< nominal duration of each ramp (amplitude v·this, capped by the range) [s]
+  double ramp_duration_s = 10.0e-3;     ///< nominal duration of each ramp (amplitude v·this, capped by the range) [s]
   double min_ramp_duration_s = 4.0e-3;  ///< a ramp shorter than this (range too small for v) is an error [s]
-  double step_hold_s = 6.0e-3;       ///< time from the setpoint's arrival (|Δ|/max_speed + T1 + T2 after a step command) to the next command [s]
-  double ramp_hold_s = 3.0e-3;       ///< time from the setpoint's arrival (a/v + T1 + T2) after a ramp to the next command [s]
-  double start_hold_s = 2.0e-3;      ///< rest before the first command [s]
+  double step_hold_s = 6.0e-3;  ///< time from the setpoint's arrival (|Δ|/max_speed + T1 + T2 after a step command) to
+                                ///< the next command [s]
+  double ramp_hold_s =
+      3.0e-3;  ///< time from the setpoint's arrival (a/v + T1 + T2) after a ramp to the next command [s]
+  double start_hold_s = 2.0e-3;  ///< rest before the first command [s]
 
   /// \throws ConfigError "km0.<field> must be ..." naming the value
   void validate() const;
@@ -69,10 +71,10 @@ struct Km0Thresholds
   Km0Limit large_settling_excess_s{2.0e-4, 5.0e-4};  ///< settling time − |A|/max_speed [s]
   Km0Limit large_static_error_deg{1.7e-3, 5.0e-3};
   // ramps
-  Km0Limit ramp_lag_s{6.0e-5, 1.0e-4};          ///< following error / speed [s]
-  Km0Limit ramp_speed_error_pct{0.5, 2.0};      ///< |steady − commanded| / commanded [%]
+  Km0Limit ramp_lag_s{6.0e-5, 1.0e-4};              ///< following error / speed [s]
+  Km0Limit ramp_speed_error_pct{0.5, 2.0};          ///< |steady − commanded| / commanded [%]
   Km0Limit ramp_speed_settling_s{8.7e-4, 1.45e-3};  ///< ±5 % speed settling from the ramp start [s]
-  Km0Limit ramp_friction_excess_pct{25.0, 60.0};   ///< (Kc·i − baseline(ω)) / baseline reference [%]
+  Km0Limit ramp_friction_excess_pct{25.0, 60.0};    ///< (Kc·i − baseline(ω)) / baseline reference [%]
 
   void validate() const;
 };
@@ -81,10 +83,10 @@ struct Km0Thresholds
 /// \f[ T_{f,0}(\omega) = B\omega + T_p + T_c\,\mathrm{sgn}(\omega) \f]
 struct Km0FrictionBaseline
 {
-  bool from_servo = true;           ///< take B, Tp, Tc of the simulated axis (the values below ignored)
-  double viscous_nms = 2.0e-6;      ///< B [N·m·s/rad] (the default galvos' value, galvo_params.hpp)
-  double offset_torque_nm = 1.0e-5; ///< Tp [N·m]
-  double coulomb_torque_nm = 3.0e-5;  ///< Tc [N·m]
+  bool from_servo = true;              ///< take B, Tp, Tc of the simulated axis (the values below ignored)
+  double viscous_nms = 2.0e-6;         ///< B [N·m·s/rad] (the default galvos' value, galvo_params.hpp)
+  double offset_torque_nm = 1.0e-5;    ///< Tp [N·m]
+  double coulomb_torque_nm = 3.0e-5;   ///< Tc [N·m]
   double reference_floor_nm = 1.0e-6;  ///< denominator floor of the friction excess [N·m]
 
   void validate() const;

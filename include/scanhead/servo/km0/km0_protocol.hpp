@@ -28,12 +28,12 @@ const char* km0PhaseName(Km0PhaseKind kind);
 struct Km0Phase
 {
   Km0PhaseKind kind = Km0PhaseKind::Positioning;
-  std::size_t begin = 0;      ///< sample index of the last sample at the old target (the command leaves it after this)
-  std::size_t end = 0;        ///< one past the phase's last sample
+  std::size_t begin = 0;  ///< sample index of the last sample at the old target (the command leaves it after this)
+  std::size_t end = 0;    ///< one past the phase's last sample
   std::size_t steady_begin = 0;  ///< first sample of the steady window (THESIS "mid-phase" (1)) of a step
-  double from_rad = 0.0;      ///< target before [rad]
-  double to_rad = 0.0;        ///< target after [rad]
-  double speed_radps = 0.0;   ///< velocity saturation in force during the phase [rad/s]
+  double from_rad = 0.0;         ///< target before [rad]
+  double to_rad = 0.0;           ///< target after [rad]
+  double speed_radps = 0.0;      ///< velocity saturation in force during the phase [rad/s]
 };
 
 /// \brief The setpoint stream of the protocol, as the NC would send it (position, velocity,
@@ -41,11 +41,11 @@ struct Km0Phase
 struct Km0Signal
 {
   double period_s = 1e-5;
-  std::vector<double> position_rad;      ///< Q_filt2 [rad]
-  std::vector<double> velocity_radps;    ///< its exact derivative [rad/s]
+  std::vector<double> position_rad;         ///< Q_filt2 [rad]
+  std::vector<double> velocity_radps;       ///< its exact derivative [rad/s]
   std::vector<double> acceleration_radps2;  ///< [rad/s²]
-  std::vector<double> target_rad;        ///< the piecewise-constant target before the filters [rad]
-  std::vector<unsigned char> limited;    ///< 1 where the velocity saturation was active
+  std::vector<double> target_rad;           ///< the piecewise-constant target before the filters [rad]
+  std::vector<unsigned char> limited;       ///< 1 where the velocity saturation was active
   std::vector<Km0Phase> phases;
 };
 
@@ -78,17 +78,17 @@ Km0Response runKm0(AxisModel& axis, const Km0Signal& signal);
 struct Km0StepMetrics
 {
   Km0PhaseKind kind = Km0PhaseKind::SmallStep;
-  double begin_time_s = 0.0;     ///< time of the phase begin sample [s]
+  double begin_time_s = 0.0;  ///< time of the phase begin sample [s]
   double command_from_rad = 0.0;
   double command_to_rad = 0.0;
-  double initial_rad = 0.0;      ///< response at the begin sample
-  double steady_rad = 0.0;       ///< (3) mean of the response over the second half of the phase
-  double start_delay_s = 0.0;    ///< (4) first time |θ − θ0| > threshold (linear interpolation); NaN if never
-  double overshoot_pct = 0.0;    ///< (5) max(0, peak beyond steady) / |steady − θ0| · 100
-  double settling_time_s = 0.0;  ///< (7) last exit from steady ± band·|steady − θ0| (interpolated)
-  double static_error_rad = 0.0; ///< (10) command_to − steady
-  double peak_speed_radps = 0.0; ///< max |dθ/dt| (central differences) during the phase
-  bool setpoint_limited = false; ///< the NC velocity saturation was active during the phase
+  double initial_rad = 0.0;       ///< response at the begin sample
+  double steady_rad = 0.0;        ///< (3) mean of the response over the second half of the phase
+  double start_delay_s = 0.0;     ///< (4) first time |θ − θ0| > threshold (linear interpolation); NaN if never
+  double overshoot_pct = 0.0;     ///< (5) max(0, peak beyond steady) / |steady − θ0| · 100
+  double settling_time_s = 0.0;   ///< (7) last exit from steady ± band·|steady − θ0| (interpolated)
+  double static_error_rad = 0.0;  ///< (10) command_to − steady
+  double peak_speed_radps = 0.0;  ///< max |dθ/dt| (central differences) during the phase
+  bool setpoint_limited = false;  ///< the NC velocity saturation was active during the phase
 };
 
 /// \brief Metrics of one ramp (THESIS Fig. 2.59). The ramp ends at the last sample of the
@@ -96,15 +96,15 @@ struct Km0StepMetrics
 struct Km0RampMetrics
 {
   double begin_time_s = 0.0;
-  double command_speed_radps = 0.0;   ///< signed commanded speed v [rad/s]
+  double command_speed_radps = 0.0;  ///< signed commanded speed v [rad/s]
   double command_from_rad = 0.0;
   double command_to_rad = 0.0;
-  double ramp_end_time_s = 0.0;       ///< from the phase begin [s]
-  double steady_speed_radps = 0.0;    ///< (2) (θ(end) − θ(mid)) / (t_end − t_mid): mean of dθ/dt
-  double following_error_rad = 0.0;   ///< (4) (setpoint − θ)·sgn(v) at the ramp end (> 0: lag)
-  double speed_settling_time_s = 0.0; ///< (5) last exit of dθ/dt (central differences) from steady ± band
-  double steady_current_a = 0.0;      ///< (8) mean current over [mid, end]
-  double friction_torque_nm = 0.0;    ///< Kc · steady current [N·m]
+  double ramp_end_time_s = 0.0;        ///< from the phase begin [s]
+  double steady_speed_radps = 0.0;     ///< (2) (θ(end) − θ(mid)) / (t_end − t_mid): mean of dθ/dt
+  double following_error_rad = 0.0;    ///< (4) (setpoint − θ)·sgn(v) at the ramp end (> 0: lag)
+  double speed_settling_time_s = 0.0;  ///< (5) last exit of dθ/dt (central differences) from steady ± band
+  double steady_current_a = 0.0;       ///< (8) mean current over [mid, end]
+  double friction_torque_nm = 0.0;     ///< Kc · steady current [N·m]
 };
 
 /// \brief Step metrics from the response \p position_rad over [phase.begin, phase.end).

@@ -28,12 +28,12 @@ Km0Verdict km0Verdict(double value, const Km0Limit& limit);
 /// \brief What the report needs to know about the axis besides its response.
 struct Km0AxisInfo
 {
-  std::string name = "x";             ///< "x" or "y"
-  std::string model;                  ///< servo model name (for the report)
+  std::string name = "x";                  ///< "x" or "y"
+  std::string model;                       ///< servo model name (for the report)
   double torque_constant_nm_per_a = 0.01;  ///< Kc, converts the current to torque [N·m/A]
-  double viscous_nms = 0.0;           ///< the axis' configured B [N·m·s/rad] (model line of the plots)
-  double offset_torque_nm = 0.0;      ///< Tp [N·m]
-  double coulomb_torque_nm = 0.0;     ///< Tc [N·m]
+  double viscous_nms = 0.0;                ///< the axis' configured B [N·m·s/rad] (model line of the plots)
+  double offset_torque_nm = 0.0;           ///< Tp [N·m]
+  double coulomb_torque_nm = 0.0;          ///< Tc [N·m]
 };
 
 /// \brief Torque constant and friction of \p axis (0 = x, 1 = y) of \p servo, as the model uses them.
@@ -45,8 +45,8 @@ Km0FrictionBaseline km0Baseline(const Km0Config& config, const Km0AxisInfo& info
 
 /// \brief The KM0 report as YAML: settings, every step and ramp with its metrics and verdicts,
 /// the friction fit, the overall verdict (the worst one) and \p files.
-std::string km0ReportYaml(const Km0Results& results, const Km0Config& config, const Km0AxisInfo& info,
-                          double period_s, const std::vector<std::string>& files = {});
+std::string km0ReportYaml(const Km0Results& results, const Km0Config& config, const Km0AxisInfo& info, double period_s,
+                          const std::vector<std::string>& files = {});
 
 /// \brief Overall verdict of a run (the worst of all metrics).
 Km0Verdict km0OverallVerdict(const Km0Results& results, const Km0Config& config, const Km0AxisInfo& info);
