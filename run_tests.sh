@@ -3,8 +3,9 @@
 # Fails if any test fails or if no test ran.
 set -euo pipefail
 cd "$(dirname "$0")"
-# The tests also build the benchmarks (so they keep compiling) and run the fuzz smoke pass.
-export SCANHEAD_CMAKE_ARGS="-DSCANHEAD_BUILD_BENCHMARKS=ON -DSCANHEAD_BUILD_FUZZERS=ON"
+# The tests also build the benchmarks (so they keep compiling), with warnings as errors, and run the
+# fuzz smoke pass.
+export SCANHEAD_CMAKE_ARGS="-DSCANHEAD_BUILD_BENCHMARKS=ON -DSCANHEAD_BUILD_FUZZERS=ON -DSCANHEAD_WERROR=ON"
 . scripts/prepare.sh
 # A master port of our own, so two runs (or a running virtual machine) never collide.
 export ROS_MASTER_URI="http://127.0.0.1:$((20000 + $$ % 10000))"

@@ -36,26 +36,4 @@ JointChunk ServoStage::process(const SetpointChunk& setpoint)
   }
   return servo_->process(setpoint);
 }
-
-std::uint64_t EnergySinkStage::process(const SpotChunk& chunk)
-{
-  if (!stage_)
-    throw std::logic_error("EnergySinkStage::process() before reset()");
-  stage_->process(chunk);
-  return stage_->samplesSeen();
-}
-
-RunMetrics EnergySinkStage::finish()
-{
-  if (!stage_)
-    throw std::logic_error("EnergySinkStage::finish() before reset()");
-  return stage_->finish();
-}
-
-const EnergyStage& EnergySinkStage::stage() const
-{
-  if (!stage_)
-    throw std::logic_error("EnergySinkStage::stage() before reset()");
-  return *stage_;
-}
 }  // namespace scanhead

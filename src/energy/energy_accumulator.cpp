@@ -122,16 +122,25 @@ void EnergyAccumulator::process(const SpotChunk& chunk)
     finish();  // gap: the pending sample's successor is lost, deposit it where it stands
   }
   // Samples before admission.skip were already accumulated (overlap or late chunk).
-  for (std::size_t k = admission.skip; k < chunk.samples.size(); ++k)
+  try
   {
-    const SpotSample& s = chunk.samples[k];
-    if (has_pending_ && pending_.power_w > 0.0)
+    for (std::size_t k = admission.skip; k < chunk.samples.size(); ++k)
     {
-      deposit(pending_, s.actual, pending_.power_w * period_s_);
+      const SpotSample& s = chunk.samples[k];
+      if (has_pending_ && pending_.power_w > 0.0)
+      {
+        deposit(pending_, s.actual, pending_.power_w * period_s_);
+      }
+      pending_ = s;
+      period_s_ = chunk.period_s;
+      has_pending_ = true;
     }
-    pending_ = s;
-    period_s_ = chunk.period_s;
-    has_pending_ = true;
+  }
+  catch (...)
+  {
+    // The rest of the chunk is lost but already counted as taken: never join across it.
+    has_pending_ = false;
+    throw;
   }
 }
 

@@ -8,6 +8,7 @@
 #include "ros_energy_views.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/chain/results_writer.hpp"
+#include "scanhead/common/errors.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
 #include "support/python_plots.hpp"
 
@@ -41,18 +42,23 @@ EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandl
   plan_sub_ = nh.subscribe("nc/plan", 10, &EnergyAccumulatorNode::onPlan, this);
   StageNodeAdapter<EnergySinkStage, SpotStream>::Binding binding;
   // A job starts once its cam/job and the NC's plan of it are both here (its chunks wait till then).
-  binding.job = [this](const ChunkHeader& header) -> std::optional<PlannedJob> {
-    const auto job = jobs_.find(header.job_id);
-    const auto plan = plans_.find(header.job_id);
+  binding.job = [this](const ChunkInfo& chunk) -> std::optional<PlannedJob> {
+    if (rejected_plans_.count(chunk.job_id) != 0)
+      throw InputError("its nc/plan was rejected (see above)");
+    const auto job = jobs_.find(chunk.job_id);
+    const auto plan = plans_.find(chunk.job_id);
     if (job == jobs_.end() || plan == plans_.end())
       return std::nullopt;
-    return PlannedJob{job->second, plan->second};
+    current_job_ = job->second;  // kept for the results: jobs_ forgets old jobs
+    return PlannedJob{current_job_, plan->second};
   };
   binding.process = [](EnergySinkStage& stage, const std::tuple<std::shared_ptr<const SpotStream>>& m) {
     return stage.process(fromMsg(*std::get<0>(m)));  // the stage counts gaps and overlaps (dropped_samples)
   };
-  binding.publish = [this](std::uint64_t, const ChunkHeader& header) { acknowledge(header.total_samples); };
-  binding.finished = [this](std::uint32_t) { finishJob(); };
+  binding.publish = [](std::uint64_t, const ChunkHeader&) {};
+  // Every chunk is acknowledged, even one the stage threw on: the NC's flow window never waits for it.
+  binding.consumed = [this](const ChunkInfo& chunk) { acknowledge(chunk.total_samples); };
+  binding.finished = [this](std::uint32_t job_id, bool ok) { finishJob(job_id, ok); };
   adapter_ = std::make_unique<StageNodeAdapter<EnergySinkStage, SpotStream>>(
       nh, stage_, std::array<std::string, 1>{"optics/spot"}, std::move(binding), "energy");
 }
@@ -70,10 +76,20 @@ void EnergyAccumulatorNode::onPlan(const NcJobPlan& msg)
   try
   {
     plans_[msg.job_id] = fromMsg(msg);
+    rejected_plans_.erase(msg.job_id);
     while (plans_.size() > 8)
       plans_.erase(plans_.begin());
-    // The plan carries the NC's timing, so corners stay on time whatever this node's settings;
-    // but a graph whose stages are configured differently is a mistake worth saying.
+  }
+  catch (const std::exception& e)
+  {
+    ROS_ERROR("energy: nc/plan of job %u rejected: %s", msg.job_id, e.what());
+    plans_.erase(msg.job_id);
+    rejected_plans_.insert(msg.job_id);
+  }
+  // The plan carries the NC's timing, so corners stay on time whatever this node's settings; but a
+  // graph whose stages are configured differently is a mistake worth saying.
+  try
+  {
     const std::vector<std::string> differ =
         differingSettings(msg.settings_yaml, settings_yaml_, {"stream", "nc", "recipe", "servo", "optics"});
     if (!differ.empty())
@@ -89,15 +105,15 @@ void EnergyAccumulatorNode::onPlan(const NcJobPlan& msg)
   }
   catch (const std::exception& e)
   {
-    ROS_ERROR("energy: nc/plan of job %u rejected: %s", msg.job_id, e.what());
+    ROS_WARN("energy: cannot compare the NC node's settings with this node's: %s", e.what());
   }
   adapter_->retry();
 }
 
 void EnergyAccumulatorNode::acknowledge(std::uint64_t total_samples)
 {
-  const std::uint32_t job_id = adapter_->jobId();
-  const std::uint64_t next_index = adapter_->sequence().next();
+  const std::uint32_t job_id = adapter_->driver().jobId();
+  const std::uint64_t next_index = adapter_->driver().sequence().next();
   ChunkAck ack;
   ack.job_id = job_id;
   ack.next_index = next_index;
@@ -108,17 +124,28 @@ void EnergyAccumulatorNode::acknowledge(std::uint64_t total_samples)
                       static_cast<unsigned long long>(next_index), static_cast<unsigned long long>(total_samples));
 }
 
-void EnergyAccumulatorNode::finishJob()
+void EnergyAccumulatorNode::finishJob(std::uint32_t job_id, bool ok)
 {
-  const std::uint32_t job_id = adapter_->jobId();
+  if (adapter_->driver().failed())
+  {
+    ROS_ERROR("energy: job %u could not run: no results", job_id);
+    failed_ = true;
+    shutdownIfDone();
+    return;
+  }
+  if (!ok)
+  {
+    ROS_ERROR("energy: job %u: a chunk failed (see above): its results are incomplete", job_id);
+    failed_ = true;
+  }
   const RunMetrics metrics = stage_.finish();
   ROS_INFO_STREAM("energy: job " << job_id << " done\n" << metricsTable(metrics));
-  publishResults(metrics);
+  publishResults(job_id, metrics);
   if (!out_.empty())
   {
     try
     {
-      writeResultsFolder(out_, metrics, stage_.stage(), config_, jobs_.at(job_id), plotFinisher());
+      writeResultsFolder(out_, metrics, stage_.stage(), config_, current_job_, plotFinisher());
       ROS_INFO("energy: results written to %s/", out_.c_str());
     }
     catch (const std::exception& e)
@@ -128,20 +155,25 @@ void EnergyAccumulatorNode::finishJob()
     }
   }
   last_stage_ = stage_.release();
-  last_job_ = jobs_.at(job_id);
+  last_job_ = current_job_;
   views_published_ = false;
   publishViews();
+  shutdownIfDone();
+}
+
+void EnergyAccumulatorNode::shutdownIfDone()
+{
   if (exit_when_done_)  // after a delay that lets a recorder write the last chunks
     shutdown_timer_ = nh_.createWallTimer(
         ros::WallDuration(std::max(shutdown_delay_s_, 1e-3)), [](const ros::WallTimerEvent&) { ros::shutdown(); },
         true);
 }
 
-void EnergyAccumulatorNode::publishResults(const RunMetrics& metrics)
+void EnergyAccumulatorNode::publishResults(std::uint32_t job_id, const RunMetrics& metrics)
 {
   JobMetrics msg;
   msg.header.stamp = ros::Time::now();
-  msg.job_id = adapter_->jobId();
+  msg.job_id = job_id;
   msg.job_name = metrics.job_name;
   msg.samples = metrics.samples;
   msg.dropped_samples = metrics.dropped_samples;

@@ -11,10 +11,12 @@
 
 #include <map>
 #include <memory>
+#include <set>
 
 #include "ros_stage_node.hpp"
 #include "scanhead/chain/chain_config.hpp"
 #include "scanhead/chain/chain_stages.hpp"
+#include "scanhead/chain/energy_sink_stage.hpp"
 #include "scanhead/chain/energy_stage.hpp"
 
 namespace scanhead
@@ -32,15 +34,20 @@ private:
   void onPlan(const NcJobPlan& msg);
   /// \brief Acknowledges the spot stream up to where it got, with progress on long jobs.
   void acknowledge(std::uint64_t total_samples);
-  void finishJob();
-  void publishResults(const RunMetrics& metrics);
+  /// \brief The job's last sample is in: metrics, results folder, views (\p ok: no chunk failed).
+  void finishJob(std::uint32_t job_id, bool ok);
+  /// \brief With ~exit_when_done, shuts the node down after a delay that lets a recorder finish.
+  void shutdownIfDone();
+  void publishResults(std::uint32_t job_id, const RunMetrics& metrics);
   /// \brief Energy image, grid and path markers of the last finished job, if anyone subscribes.
   void publishViews();
 
   ChainConfig config_;
-  std::string settings_yaml_;              ///< this node's settings, compared with the NC's
-  std::map<std::uint32_t, Job> jobs_;      ///< recent jobs by id
-  std::map<std::uint32_t, NcPlan> plans_;  ///< the NC's plans of recent jobs, by id
+  std::string settings_yaml_;               ///< this node's settings, compared with the NC's
+  std::map<std::uint32_t, Job> jobs_;       ///< recent jobs by id
+  std::map<std::uint32_t, NcPlan> plans_;   ///< the NC's plans of recent jobs, by id
+  std::set<std::uint32_t> rejected_plans_;  ///< jobs whose nc/plan could not be read: they fail
+  Job current_job_;                         ///< the job running (or last run)
   EnergySinkStage stage_;
   std::unique_ptr<StageNodeAdapter<EnergySinkStage, SpotStream>> adapter_;  ///< optics/spot in
   std::unique_ptr<EnergyStage> last_stage_;                                 ///< the last finished job, for the views

@@ -8,8 +8,13 @@
 namespace scanhead
 {
 GalvoServoNode::GalvoServoNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
-  : period_s_(chainConfigFromParams(nh).nc.period_s)
-  , stage_(chainConfigFromParams(nh).servo)
+  : GalvoServoNode(nh, private_nh, chainConfigFromParams(nh))
+{
+}
+
+GalvoServoNode::GalvoServoNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const ChainConfig& config)
+  : period_s_(config.nc.period_s)
+  , stage_(config.servo)
   , joints_out_(nh, "galvo/joint_states_chunk", expectedSubscribers(nh, private_nh, "subscribers", 1))
 {
   double rate_hz = 30.0;
@@ -17,10 +22,11 @@ GalvoServoNode::GalvoServoNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
   display_period_s_ = 1.0 / std::max(rate_hz, 1e-3);
   display_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 10);
   StageNodeAdapter<ServoStage, NcSetpoint>::Binding binding;
-  binding.job = [this](const ChunkHeader& header) -> std::optional<ServoJob> {
-    if (header.period != period_s_)
-      ROS_WARN("galvo: stream period %g s differs from nc.period_s %g s; using the stream's", header.period, period_s_);
-    return ServoJob{header.period};
+  binding.job = [this](const ChunkInfo& chunk) -> std::optional<ServoJob> {
+    if (chunk.period_s != period_s_)
+      ROS_WARN("galvo: stream period %g s differs from nc.period_s %g s; using the stream's", chunk.period_s,
+               period_s_);
+    return ServoJob{chunk.period_s};
   };
   binding.process = [](ServoStage& stage, const std::tuple<std::shared_ptr<const NcSetpoint>>& m) {
     return stage.process(fromMsg(*std::get<0>(m)));

@@ -23,6 +23,7 @@ public:
   bool failed() const { return false; }
 
 private:
+  GalvoServoNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const ChainConfig& config);
   void onTimer(const ros::TimerEvent&);
   void publishDisplay(const JointSample& sample);
 

@@ -13,7 +13,7 @@ OpticalChainNode::OpticalChainNode(ros::NodeHandle& nh, ros::NodeHandle& private
   stage_ = std::make_unique<OpticsStage>(*optics_);
   Adapter::Binding binding;
   // The optics needs nothing of the job: its reset argument is empty (the plan is not read).
-  binding.job = [](const ChunkHeader&) { return std::optional<NoInput>(NoInput()); };
+  binding.job = [](const ChunkInfo&) { return std::optional<NoInput>(NoInput()); };
   binding.process = [](OpticsStage& stage, const Adapter::Messages& m) {
     const SetpointChunk setpoint = fromMsg(*std::get<0>(m));
     const LaserChunk laser = fromMsg(*std::get<1>(m));

@@ -3,11 +3,10 @@
 /// every stream node (servo, optics, energy) would otherwise write for itself.
 ///
 /// It subscribes the stage's input topics, joins the inputs of each chunk by (job id, first
-/// index), resets the stage when a job starts (with the argument the node derives from the job id:
-/// e.g. the job and the NC's plan, holding the chunks until they arrive), admits each chunk through
-/// a ChunkSequencer (gaps, overlaps and late chunks are counted and logged, chunks with nothing new
-/// dropped), runs the stage and hands the output to the node, and tells the node when the job's last
-/// sample is in. Memory stays bounded: at most kMaxPendingChunks incomplete chunks are held.
+/// index) without copying them, and hands each complete chunk to a StageDriver
+/// (common/stage_driver.hpp: which job a chunk starts or belongs to, sequencing, errors, the job's
+/// end); the chunks of a job that cannot start yet (its cam/job or nc/plan not here) wait, logged
+/// once. Memory stays bounded: at most kMaxPendingChunks incomplete or waiting chunks are held.
 /// A node is left with its parameters, its message conversions and its own extra outputs.
 #pragma once
 
@@ -20,11 +19,12 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <tuple>
 #include <utility>
 
-#include "scanhead/common/chunk_sequencer.hpp"
+#include "scanhead/common/stage_driver.hpp"
 
 namespace scanhead
 {
@@ -38,18 +38,20 @@ public:
   static constexpr std::size_t kInputs = sizeof...(InMsgs);
   static constexpr std::size_t kMaxPendingChunks = 4096;
 
-  /// \brief What the node supplies.
+  /// \brief What the node supplies (see StageDriver::Hooks for when each is called).
   struct Binding
   {
-    /// The stage's reset argument for the job of the chunk \p header (its job_id, period), or
-    /// nullopt while what it needs (cam/job, nc/plan) has not arrived: the job's chunks wait.
-    std::function<std::optional<JobArgument>(const ChunkHeader& header)> job;
+    /// The stage's reset argument for the chunk's job; nullopt while what it needs (cam/job,
+    /// nc/plan) has not arrived: the job's chunks wait. Throws if the job cannot run.
+    std::function<std::optional<JobArgument>(const ChunkInfo& chunk)> job;
     /// Converts the chunk's messages and runs the stage on them.
     std::function<Output(StageT& stage, const Messages& messages)> process;
     /// The stage's output for the chunk of \p header (the first input's header).
     std::function<void(const Output& output, const ChunkHeader& header)> publish;
-    /// The job's last sample is in (optional).
-    std::function<void(std::uint32_t job_id)> finished;
+    /// After every chunk of the current job, processed or not (optional; the energy node acks here).
+    std::function<void(const ChunkInfo& chunk)> consumed;
+    /// The job's last sample is in (optional); \p ok false if it failed or a chunk threw.
+    std::function<void(std::uint32_t job_id, bool ok)> finished;
   };
 
   /// \param[in] stage   kept by reference (must outlive this)
@@ -57,14 +59,14 @@ public:
   /// \param[in] name    the node's name in log lines
   StageNodeAdapter(ros::NodeHandle& nh, StageT& stage, const std::array<std::string, kInputs>& topics, Binding binding,
                    std::string name)
-    : stage_(stage)
-    , binding_(std::move(binding))
+    : binding_(std::move(binding))
     , name_(std::move(name))
+    , driver_(stage, driverHooks())
   {
     subscribeAll(nh, topics, std::index_sequence_for<InMsgs...>());
   }
 
-  /// \brief Tries the waiting chunks again (call when a job or a plan arrives).
+  /// \brief Offers the waiting chunks again (call when a job or a plan arrives), in stream order.
   void retry()
   {
     for (auto it = pending_.begin(); it != pending_.end();)
@@ -74,12 +76,28 @@ public:
     }
   }
 
-  std::uint32_t jobId() const { return job_id_; }
-  bool running() const { return running_; }
-  const ChunkSequencer& sequence() const { return sequence_; }
+  const StageDriver<StageT>& driver() const { return driver_; }
 
 private:
   using Key = std::pair<std::uint32_t, std::uint64_t>;  ///< (job id, first index)
+
+  typename StageDriver<StageT>::Hooks driverHooks()
+  {
+    typename StageDriver<StageT>::Hooks hooks;
+    hooks.job = [this](const ChunkInfo& chunk) { return binding_.job(chunk); };
+    hooks.publish = [this](const Output& output, const ChunkInfo&) { binding_.publish(output, current_->chunk); };
+    hooks.consumed = [this](const ChunkInfo& chunk) {
+      if (binding_.consumed)
+        binding_.consumed(chunk);
+    };
+    hooks.finished = [this](std::uint32_t job_id, bool ok) {
+      if (binding_.finished)
+        binding_.finished(job_id, ok);
+    };
+    hooks.error = [this](const std::string& m) { ROS_ERROR("%s: %s", name_.c_str(), m.c_str()); };
+    hooks.warn = [this](const std::string& m) { ROS_WARN("%s: %s", name_.c_str(), m.c_str()); };
+    return hooks;
+  }
 
   template <std::size_t... I>
   void subscribeAll(ros::NodeHandle& nh, const std::array<std::string, kInputs>& topics, std::index_sequence<I...>)
@@ -94,7 +112,8 @@ private:
     const boost::function<void(const boost::shared_ptr<const Msg>&)> callback =
         [this](const boost::shared_ptr<const Msg>& msg) {
           const Key key{msg->chunk.job_id, msg->chunk.first_index};
-          std::get<I>(pending_[key]) = std::make_shared<const Msg>(*msg);
+          // No copy: the std::shared_ptr keeps the received message alive.
+          std::get<I>(pending_[key]) = std::shared_ptr<const Msg>(msg.get(), [msg](const Msg*) {});
           tryProcess(key);
         };
     subscribers_[I] = nh.subscribe<Msg>(topic, 0, callback, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
@@ -108,11 +127,26 @@ private:
   void tryProcess(const Key& key)
   {
     const auto it = pending_.find(key);
-    if (it != pending_.end() && complete(it->second) && startJob(std::get<0>(it->second)->chunk))
+    if (it != pending_.end() && complete(it->second))
     {
-      const Messages messages = std::move(it->second);
-      pending_.erase(it);
-      run(messages);
+      const ChunkHeader& header = std::get<0>(it->second)->chunk;
+      const ChunkInfo chunk{header.job_id, header.first_index, chunkSize(it->second), header.period,
+                            header.total_samples};
+      const ChunkVerdict verdict = driver_.offer(chunk);
+      if (verdict == ChunkVerdict::Wait && waiting_logged_.insert(header.job_id).second)
+        ROS_WARN("%s: the chunks of job %u wait for what their job needs (cam/job, nc/plan)", name_.c_str(),
+                 header.job_id);
+      if (verdict != ChunkVerdict::Wait)
+      {
+        const Messages messages = std::move(it->second);
+        pending_.erase(it);
+        if (verdict == ChunkVerdict::Run)
+        {
+          current_ = std::get<0>(messages);
+          driver_.run(chunk, [&](StageT& stage) { return binding_.process(stage, messages); });
+          current_.reset();
+        }
+      }
     }
     while (pending_.size() > kMaxPendingChunks)
     {
@@ -120,65 +154,6 @@ private:
                 name_.c_str(), pending_.begin()->first.first,
                 static_cast<unsigned long long>(pending_.begin()->first.second));
       pending_.erase(pending_.begin());
-    }
-  }
-
-  /// Resets the stage at the first chunk of a new job; false while the job's argument is missing.
-  bool startJob(const ChunkHeader& header)
-  {
-    if (running_ && header.job_id == job_id_)
-      return true;
-    if (!running_ && started_once_ && header.job_id == job_id_)
-      return true;  // a late chunk of the finished job: admitted (and dropped) below
-    const std::optional<JobArgument> argument = binding_.job(header);
-    if (!argument)
-      return false;
-    if (running_)
-      ROS_WARN("%s: job %u interrupted by job %u after %llu samples", name_.c_str(), job_id_, header.job_id,
-               static_cast<unsigned long long>(sequence_.next()));
-    stage_.reset(*argument);
-    job_id_ = header.job_id;
-    total_samples_ = header.total_samples;
-    sequence_.reset();
-    running_ = true;
-    started_once_ = true;
-    if (header.first_index != 0)
-      ROS_ERROR(
-          "%s: job %u starts at sample %llu: the first samples were lost upstream (a stage that "
-          "connected late?); they are counted as dropped",
-          name_.c_str(), job_id_, static_cast<unsigned long long>(header.first_index));
-    return true;
-  }
-
-  void run(const Messages& messages)
-  {
-    const ChunkHeader& header = std::get<0>(messages)->chunk;
-    const bool started = sequence_.started();
-    const std::uint64_t expected = sequence_.next();
-    const ChunkAdmission admission = sequence_.admit(header.first_index, chunkSize(messages));
-    if (admission.broken(started) || admission.skip > 0)
-      ROS_ERROR(
-          "%s: job %u: expected sample %llu, got a chunk at %llu (%llu samples missing, %zu already seen: "
-          "gap or reordering upstream; counted)",
-          name_.c_str(), job_id_, static_cast<unsigned long long>(expected),
-          static_cast<unsigned long long>(header.first_index), static_cast<unsigned long long>(admission.missing),
-          admission.skip);
-    if (!running_ || (admission.skip > 0 && admission.skip == chunkSize(messages)))
-      return;  // nothing new
-    try
-    {
-      binding_.publish(binding_.process(stage_, messages), header);
-    }
-    catch (const std::exception& e)
-    {
-      ROS_ERROR("%s: job %u chunk at sample %llu: %s", name_.c_str(), job_id_,
-                static_cast<unsigned long long>(header.first_index), e.what());
-    }
-    if (sequence_.next() >= total_samples_)
-    {
-      running_ = false;
-      if (binding_.finished)
-        binding_.finished(job_id_);
     }
   }
 
@@ -194,15 +169,13 @@ private:
     return msg.power.size();
   }
 
-  StageT& stage_;
+  using FirstMsg = std::tuple_element_t<0, std::tuple<InMsgs...>>;
   Binding binding_;
   std::string name_;
+  StageDriver<StageT> driver_;
   std::array<ros::Subscriber, kInputs> subscribers_;
   std::map<Key, Messages> pending_;
-  ChunkSequencer sequence_;
-  std::uint32_t job_id_ = 0;
-  std::uint64_t total_samples_ = 0;
-  bool running_ = false;
-  bool started_once_ = false;
+  std::set<std::uint32_t> waiting_logged_;   ///< jobs whose waiting was logged (once each)
+  std::shared_ptr<const FirstMsg> current_;  ///< the first input of the chunk being run (its header)
 };
 }  // namespace scanhead

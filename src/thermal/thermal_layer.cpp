@@ -100,6 +100,7 @@ void ThermalLayer::process(const SpotChunk& chunk)
         << chunk.first_index;
     throw InputError(msg.str());
   }
+  period_s_ = chunk.period_s;  // checked above; set before any sample may throw
   const ChunkAdmission admission = sequence_.admit(chunk.first_index, chunk.samples.size());
   for (std::size_t k = admission.skip; k < chunk.samples.size(); ++k)  // earlier ones already simulated
   {
@@ -118,7 +119,6 @@ void ThermalLayer::process(const SpotChunk& chunk)
           << ") m while the laser is on (" << s.power_w << " W)";
       throw NumericalError(msg.str());
     }
-    period_s_ = chunk.period_s;
     if (k == admission.skip && admission.broken(started))
     {
       for (std::uint64_t g = index - admission.missing; g < index; ++g)  // gap: laser off where the spot last was

@@ -13,6 +13,7 @@
 #include "process_memory.hpp"
 #include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/chain/config_io.hpp"
+#include "scanhead/chain/energy_sink_stage.hpp"
 #include "scanhead/job/formats/job_io.hpp"
 #include "scanhead/job/job_files.hpp"
 #include "scanhead/optics/correction_table.hpp"

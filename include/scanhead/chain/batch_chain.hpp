@@ -7,6 +7,7 @@
 
 #include "scanhead/chain/chain_config.hpp"
 #include "scanhead/chain/chain_stages.hpp"
+#include "scanhead/chain/energy_sink_stage.hpp"
 #include "scanhead/common/package_path.hpp"
 #include "scanhead/optics/optical_model.hpp"
 #include "scanhead/optics/optics_loading.hpp"

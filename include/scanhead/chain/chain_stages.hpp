@@ -7,7 +7,7 @@
 /// | NcStage     | Job               | sample budget → NcOutput     | empty output |
 /// | ServoStage  | ServoJob (period) | SetpointChunk → JointChunk   | empty chunk  |
 /// | OpticsStage | (nothing)         | OpticsInput → SpotChunk      | empty chunk  |
-/// | EnergySinkStage | PlannedJob    | SpotChunk → samples taken    | RunMetrics   |
+/// | EnergySinkStage | PlannedJob    | SpotChunk → samples taken    | RunMetrics   | (energy_sink_stage.hpp)
 ///
 /// The NC is the source: its plan of the job (NcStage::plan(), nc_plan.hpp) is what every later
 /// stage is reset with, so none of them plans the job again.
@@ -19,7 +19,6 @@
 #include <string>
 
 #include "scanhead/chain/chain_config.hpp"
-#include "scanhead/chain/energy_stage.hpp"
 #include "scanhead/common/stage.hpp"
 #include "scanhead/job/scan_job.hpp"
 #include "scanhead/nc/nc_interpolator.hpp"
@@ -30,8 +29,8 @@
 
 namespace scanhead
 {
-/// \brief What the stages after the NC are reset with: the job and the NC's plan of it (both must
-/// outlive the job's run).
+/// \brief What the stages after the NC are reset with: the job and the NC's plan of it (read during
+/// reset(): the stages copy what they keep).
 struct PlannedJob
 {
   const Job& job;
@@ -131,28 +130,4 @@ private:
   OpticalChainStage optics_;
 };
 
-/// \brief The energy stage of a whole run: each reset starts a new EnergyStage on the job and
-/// its plan; process() returns the samples taken so far; finish() the run's metrics.
-class EnergySinkStage final : public Stage<PlannedJob, SpotChunk, std::uint64_t, RunMetrics>
-{
-public:
-  explicit EnergySinkStage(const ChainConfig& config)
-    : config_(config)
-  {
-  }
-  void reset(const PlannedJob& job) override { stage_ = std::make_unique<EnergyStage>(config_, job.job, job.plan); }
-  /// \pre reset() was called (throws std::logic_error otherwise)
-  std::uint64_t process(const SpotChunk& chunk) override;
-  /// \pre reset() was called (throws std::logic_error otherwise)
-  RunMetrics finish() override;
-  /// \brief The energy stage of the last job (map, traces). \pre reset() was called
-  const EnergyStage& stage() const;
-  /// \brief Hands over the energy stage of the last job (e.g. to keep showing it while the next
-  /// job runs); process() and finish() need a reset() after this.
-  std::unique_ptr<EnergyStage> release() { return std::move(stage_); }
-
-private:
-  ChainConfig config_;
-  std::unique_ptr<EnergyStage> stage_;
-};
 }  // namespace scanhead
