@@ -1,16 +1,18 @@
 /// \file chain_stages.hpp
 /// \brief The five stages of the chain behind the one Stage interface (common/stage.hpp):
 ///
-/// | stage       | reset with        | process                      | finish       |
-/// |-------------|-------------------|------------------------------|--------------|
-/// | CamStage    | job argument      | (nothing) → the Job          | the Job      |
-/// | NcStage     | Job               | sample budget → NcOutput     | empty output |
-/// | ServoStage  | ServoJob (period) | SetpointChunk → JointChunk   | empty chunk  |
-/// | OpticsStage | (nothing)         | OpticsInput → SpotChunk      | empty chunk  |
-/// | EnergySinkStage | PlannedJob    | SpotChunk → samples taken    | RunMetrics   | (energy_sink_stage.hpp)
+/// | stage           | reset with        | process                    | finish       |
+/// |-----------------|-------------------|----------------------------|--------------|
+/// | CamStage        | job argument      | (nothing) → the Job        | the Job      |
+/// | NcStage         | Job               | sample budget → NcOutput   | empty output |
+/// | ServoStage      | ServoJob (period) | SetpointChunk → JointChunk | empty chunk  |
+/// | OpticsStage     | (nothing)         | OpticsInput → SpotChunk    | empty chunk  |
+/// | EnergySinkStage | PlannedJob        | SpotChunk → samples taken  | RunMetrics   |
 ///
-/// The NC is the source: its plan of the job (NcStage::plan(), nc_plan.hpp) is what every later
-/// stage is reset with, so none of them plans the job again.
+/// (EnergySinkStage is in energy_sink_stage.hpp, so that the stages before it do not depend on the
+/// energy stage.) The NC is the source: its plan of the job (NcStage::plan(), nc_plan.hpp) gives the
+/// later stages what they need of the job (the servo its period, the energy stage the program and
+/// the delays), so none of them plans the job again.
 #pragma once
 
 #include <cstddef>
