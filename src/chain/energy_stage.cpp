@@ -31,18 +31,6 @@ double actualDelay(const NcPlan& plan)
   return plan.actualDelay();
 }
 
-NcStats planStats(const NcPlan& plan)
-{
-  NcStats stats;
-  stats.program = plan.program.stats;
-  stats.speed_cap_mps = plan.speed_cap_mps;
-  stats.filter_delay_s = plan.filter_delay_s;
-  stats.gate_shift_s = plan.gate_shift_s;
-  stats.longest_t1_s = plan.longest_t1_s;
-  stats.longest_t2_s = plan.longest_t2_s;
-  return stats;
-}
-
 CornerTracker makeCornerTracker(const ChainConfig& config, const NcPlan& plan, double actual_delay_s)
 {
   return CornerTracker(findCorners(plan.program.timeline, config.energy.corner_min_angle_deg * M_PI / 180.0),
@@ -81,7 +69,7 @@ EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcPlan
   , settling_(plan.program, plan.gate_shift_s, plan.filter_delay_s, config.energy.laser_path_tolerance_m)
   , placement_(job, config.energy.laser_path_tolerance_m)
   , trace_(plan.total_samples, kMaxTraceRows)
-  , nc_stats_(planStats(plan))
+  , nc_stats_(ncStatsOf(plan))
   , quality_(makeLayerQuality(config, job, plan, actual_delay_s_))
 {
   // A crop that misses the map is a setting error: said now, not after the run.

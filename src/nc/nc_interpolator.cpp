@@ -114,7 +114,6 @@ struct NcInterpolator::State
   AdaptiveFir adaptive_fir;
   AdaptiveFir::Cursor filt2_cursor;
   AdaptiveFir::Cursor filt1_cursor;
-  double gate_shift_s = 0.0;  ///< D − (T1 + T2)/2: the gate's command time lags the fixed alignment by this
   Eigen::Vector2d x_prev = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   Eigen::Vector2d q_prev = Eigen::Vector2d::Zero();        ///< IGT output at the last sample [rad]
   Eigen::Vector2d q_prev2 = Eigen::Vector2d::Zero();       ///< one sample before [rad]
@@ -124,7 +123,6 @@ struct NcInterpolator::State
   std::vector<double> plane_speeds;       ///< per sample of the chunk: speed the power follows [m/s]
   std::unique_ptr<GalvoServo> predictor;  ///< power_mode "predicted": the servo model on the setpoint
   std::uint64_t next = 0;
-  std::uint64_t total = 0;
   std::string job_name;
   NcStats stats;
 };
@@ -199,8 +197,9 @@ void NcInterpolator::start(const Job& job)
   }
   NcProgramOptions options = NcProgramOptions::from(config_, recipe_);
   options.speed_cap_mps = speed_cap;
-  st->plan.program = buildNcProgram(job, options);
-  const PathTimeline& timeline = st->plan.program.timeline;
+  NcPlan& plan = st->plan;
+  plan.program = buildNcProgram(job, options);
+  const PathTimeline& timeline = plan.program.timeline;
   if (!timeline.hasPoints())
   {
     throw InputError("NC: job '" + job.name + "' has no move (no point, or all its points are the same)");
@@ -239,9 +238,9 @@ void NcInterpolator::start(const Job& job)
     const PlaneLimits limits{config_.max_joint_accel_radps2 / g, config_.max_joint_jerk_radps3 / g};
     st->adaptive_fir = AdaptiveFir(timeline, limits);
     filter_delay_s = st->adaptive_fir.delay();
-    st->gate_shift_s = filter_delay_s - config_.filterDelay();
-    st->stats.longest_t1_s = st->adaptive_fir.longest().t1_s;
-    st->stats.longest_t2_s = st->adaptive_fir.longest().t2_s;
+    plan.gate_shift_s = filter_delay_s - config_.filterDelay();
+    plan.longest_t1_s = st->adaptive_fir.longest().t1_s;
+    plan.longest_t2_s = st->adaptive_fir.longest().t2_s;
   }
   else
   {
@@ -259,18 +258,14 @@ void NcInterpolator::start(const Job& job)
     st->plane_fir2.reset(timeline.startPoint());
     st->inter_rate_fir1 = BoxFilter<2>(config_.fir_t1_s, ts);
     st->inter_rate_fir1.reset(Eigen::Vector2d::Zero());
-    st->stats.longest_t1_s = config_.fir_t1_s;
-    st->stats.longest_t2_s = config_.fir_t2_s;
+    plan.longest_t1_s = config_.fir_t1_s;
+    plan.longest_t2_s = config_.fir_t2_s;
   }
   st->x_prev = timeline.startPoint();
   st->q_prev = q0;
   st->q_prev2 = q0;  // at rest before the start
   st->q_inter_prev = q0;
   st->q_inter_prev2 = q0;
-  st->stats.program = st->plan.program.stats;
-  st->stats.speed_cap_mps = speed_cap;
-  st->stats.filter_delay_s = filter_delay_s;
-  st->stats.gate_shift_s = st->gate_shift_s;
   if (servo_model_)
   {
     st->predictor = std::make_unique<GalvoServo>(*servo_model_, ts);
@@ -279,24 +274,19 @@ void NcInterpolator::start(const Job& job)
   // Samples n = 0 .. N−1 cover the program, the filters' settling (2·delay) and the last laser
   // window, then the tail (a time within 1e-9 relative of a sample counts as on it).
   double end_s = timeline.duration() + 2.0 * filter_delay_s;
-  const auto& windows = st->plan.program.gate.windows();
+  const auto& windows = plan.program.gate.windows();
   if (!windows.empty())
   {
-    end_s = std::max(end_s, windows.back().off_s + st->gate_shift_s);
+    end_s = std::max(end_s, windows.back().off_s + plan.gate_shift_s);
   }
-  st->total = ceilSnapped((end_s + config_.tail_s) / ts) + 1;
-
-  NcPlan& plan = st->plan;
+  plan.total_samples = ceilSnapped((end_s + config_.tail_s) / ts) + 1;
   plan.job_name = job.name;
   plan.period_s = ts;
-  plan.total_samples = st->total;
   plan.speed_cap_mps = speed_cap;
   plan.filter_delay_s = filter_delay_s;
-  plan.gate_shift_s = st->gate_shift_s;
-  plan.longest_t1_s = st->stats.longest_t1_s;
-  plan.longest_t2_s = st->stats.longest_t2_s;
   plan.start_joints_rad = q0;
   plan.servo_delay_s = servo_delay_s_;
+  st->stats = ncStatsOf(plan);  // the per-sample figures start at zero
   state_ = std::move(st);
 }
 
@@ -315,7 +305,7 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
   out.setpoint.first_index = st.next;
   out.laser.first_index = st.next;
   out.debug.first_index = st.next;
-  const std::uint64_t remaining = st.total - st.next;
+  const std::uint64_t remaining = st.plan.total_samples - st.next;
   const std::size_t count = static_cast<std::size_t>(std::min<std::uint64_t>(max_samples, remaining));
   out.setpoint.samples.resize(count);
   out.laser.samples.resize(count);
@@ -486,7 +476,7 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
   // Laser: the gate on the command timeline, aligned with Q_filt2 by the delays.
   for (std::size_t i = 0; i < count; ++i)
   {
-    const double command_s = static_cast<double>(st.next + i) * ts - st.gate_shift_s;
+    const double command_s = static_cast<double>(st.next + i) * ts - st.plan.gate_shift_s;
     double power = st.plan.program.gate.powerAt(command_s, st.gate_cursor);
     if (speed_power && power > 0.0)
     {
@@ -505,12 +495,12 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
 
 bool NcInterpolator::done() const
 {
-  return !state_ || state_->next >= state_->total;
+  return !state_ || state_->next >= state_->plan.total_samples;
 }
 
 std::uint64_t NcInterpolator::totalSamples() const
 {
-  return state_ ? state_->total : 0;
+  return state_ ? state_->plan.total_samples : 0;
 }
 
 double NcInterpolator::pathDuration() const

@@ -55,7 +55,6 @@ EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandl
   binding.process = [](EnergySinkStage& stage, const std::tuple<std::shared_ptr<const SpotStream>>& m) {
     return stage.process(fromMsg(*std::get<0>(m)));  // the stage counts gaps and overlaps (dropped_samples)
   };
-  binding.publish = [](std::uint64_t, const ChunkHeader&) {};
   // Every chunk is acknowledged, even one the stage threw on: the NC's flow window never waits for it.
   binding.consumed = [this](const ChunkInfo& chunk) { acknowledge(chunk.total_samples); };
   binding.finished = [this](std::uint32_t job_id, bool ok) { finishJob(job_id, ok); };

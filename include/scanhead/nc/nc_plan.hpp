@@ -20,6 +20,7 @@
 #include <string>
 
 #include "scanhead/nc/nc_program.hpp"
+#include "scanhead/nc/nc_stats.hpp"
 
 namespace scanhead
 {
@@ -44,4 +45,18 @@ struct NcPlan
   /// \brief Duration of the program (Σ L/v + holds + skywriting) [s].
   double pathDuration() const { return program.timeline.duration(); }
 };
+
+/// \brief The plan's figures as NcStats, for reports; the per-sample figures (maxima, counts) are
+/// zero: the NC accumulates them while it samples.
+inline NcStats ncStatsOf(const NcPlan& plan)
+{
+  NcStats stats;
+  stats.program = plan.program.stats;
+  stats.speed_cap_mps = plan.speed_cap_mps;
+  stats.filter_delay_s = plan.filter_delay_s;
+  stats.gate_shift_s = plan.gate_shift_s;
+  stats.longest_t1_s = plan.longest_t1_s;
+  stats.longest_t2_s = plan.longest_t2_s;
+  return stats;
+}
 }  // namespace scanhead

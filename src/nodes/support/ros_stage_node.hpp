@@ -46,7 +46,7 @@ public:
     std::function<std::optional<JobArgument>(const ChunkInfo& chunk)> job;
     /// Converts the chunk's messages and runs the stage on them.
     std::function<Output(StageT& stage, const Messages& messages)> process;
-    /// The stage's output for the chunk of \p header (the first input's header).
+    /// The stage's output for the chunk of \p header (the first input's header; optional).
     std::function<void(const Output& output, const ChunkHeader& header)> publish;
     /// After every chunk of the current job, processed or not (optional; the energy node acks here).
     std::function<void(const ChunkInfo& chunk)> consumed;
@@ -84,16 +84,13 @@ private:
   typename StageDriver<StageT>::Hooks driverHooks()
   {
     typename StageDriver<StageT>::Hooks hooks;
-    hooks.job = [this](const ChunkInfo& chunk) { return binding_.job(chunk); };
-    hooks.publish = [this](const Output& output, const ChunkInfo&) { binding_.publish(output, current_->chunk); };
-    hooks.consumed = [this](const ChunkInfo& chunk) {
-      if (binding_.consumed)
-        binding_.consumed(chunk);
+    hooks.job = binding_.job;
+    hooks.publish = [this](const Output& output, const ChunkInfo&) {
+      if (binding_.publish)
+        binding_.publish(output, current_->chunk);
     };
-    hooks.finished = [this](std::uint32_t job_id, bool ok) {
-      if (binding_.finished)
-        binding_.finished(job_id, ok);
-    };
+    hooks.consumed = binding_.consumed;
+    hooks.finished = binding_.finished;
     hooks.error = [this](const std::string& m) { ROS_ERROR("%s: %s", name_.c_str(), m.c_str()); };
     hooks.warn = [this](const std::string& m) { ROS_WARN("%s: %s", name_.c_str(), m.c_str()); };
     return hooks;
