@@ -1,7 +1,19 @@
 #include "scanhead/chain/batch_chain.hpp"
 
+#include <exception>
+#include <thread>
+
+#include "scanhead/common/bounded_queue.hpp"
+
 namespace scanhead
 {
+namespace
+{
+/// Spot chunks in flight between the two threads: enough to absorb the jitter of either side,
+/// few enough that memory stays small (4 × 1000 samples × 88 B).
+constexpr std::size_t kQueuedChunks = 4;
+}  // namespace
+
 BatchChain::BatchChain(const ChainConfig& config, const OpticalModel& optics)
   : config_(config)
   , nc_(config, optics)
@@ -11,6 +23,13 @@ BatchChain::BatchChain(const ChainConfig& config, const OpticalModel& optics)
 {
 }
 
+SpotChunk BatchChain::nextSpotChunk()
+{
+  const NcOutput nc = nc_.process(config_.stream.chunk_samples);
+  const JointChunk joints = servo_.process(nc.setpoint);
+  return optics_.process({nc.setpoint, joints, nc.laser});
+}
+
 RunMetrics BatchChain::run(const Job& job, const ProgressCallback& progress)
 {
   nc_.reset(job);
@@ -18,14 +37,49 @@ RunMetrics BatchChain::run(const Job& job, const ProgressCallback& progress)
   servo_.reset({nc_.plan().period_s});
   optics_.reset({});
   energy_.reset(planned);
-  while (!nc_.done())
-  {
-    const NcOutput nc = nc_.process(config_.stream.chunk_samples);
-    const JointChunk joints = servo_.process(nc.setpoint);
-    energy_.process(optics_.process({nc.setpoint, joints, nc.laser}));
+  const std::uint64_t total = nc_.plan().total_samples;
+  auto consume = [&](const SpotChunk& spots) {
+    energy_.process(spots);
     if (progress)
-      progress(nc.setpoint.endIndex(), nc_.plan().total_samples);
+      progress(spots.endIndex(), total);
+  };
+  if (config_.stream.threads < 2)
+  {
+    while (!nc_.done())
+      consume(nextSpotChunk());
+    return energy_.finish();
   }
+  // Two threads: NC → servo → optics on a producer thread, the energy stage on this one. Each side
+  // handles the chunks in stream order, so the results do not depend on the scheduling.
+  BoundedQueue<SpotChunk> queue(kQueuedChunks);
+  std::exception_ptr producer_error;
+  std::thread producer([&] {
+    try
+    {
+      while (!nc_.done())
+        if (!queue.push(nextSpotChunk()))
+          return;  // the consumer gave up
+    }
+    catch (...)
+    {
+      producer_error = std::current_exception();
+    }
+    queue.close();
+  });
+  try
+  {
+    while (std::optional<SpotChunk> spots = queue.pop())
+      consume(*spots);
+  }
+  catch (...)
+  {
+    queue.cancel();
+    producer.join();
+    throw;
+  }
+  producer.join();
+  if (producer_error)
+    std::rethrow_exception(producer_error);
   return energy_.finish();
 }
 }  // namespace scanhead

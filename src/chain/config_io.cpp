@@ -28,6 +28,7 @@ void visitSettings(Config& c, F&& f)
   f("cam.shape_file", c.cam.shape_file);
   f("stream.chunk_samples", c.stream.chunk_samples);
   f("stream.window_chunks", c.stream.window_chunks);
+  f("stream.threads", c.stream.threads);
   f("nc.period_s", c.nc.period_s);
   f("nc.fir_t1_s", c.nc.fir_t1_s);
   f("nc.fir_t2_s", c.nc.fir_t2_s);
@@ -401,6 +402,7 @@ void StreamConfig::validate() const
 {
   requireSetting(chunk_samples >= 1, "stream.chunk_samples", ">= 1", static_cast<double>(chunk_samples));
   requireSetting(window_chunks >= 1, "stream.window_chunks", ">= 1", static_cast<double>(window_chunks));
+  requireSetting(threads == 1 || threads == 2, "stream.threads", "1 or 2", static_cast<double>(threads));
 }
 
 void ChainConfig::validate() const

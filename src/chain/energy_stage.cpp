@@ -105,9 +105,9 @@ void EnergyStage::process(const SpotChunk& chunk)
     if (thermal_)
       feedThermal(chunk);
   };
-  if (chunk.samples.size() < kParallelChunkSamples)
+  if (config_.stream.threads < 2 || chunk.samples.size() < kParallelChunkSamples)
   {
-    track();  // a thread would cost more than it saves
+    track();  // one thread asked for, or a thread would cost more than it saves
     accumulator_.process(chunk);
     return;
   }
@@ -180,7 +180,8 @@ RunMetrics EnergyStage::finish()
 {
   // The layer metrics' last pass (the nearest-path index over the whole path) needs no map: it runs
   // on the second core while this one reads the map for the energy figures.
-  auto quality = std::async(std::launch::async, [this] { return quality_.finish(); });
+  auto quality = std::async(config_.stream.threads < 2 ? std::launch::deferred : std::launch::async,
+                            [this] { return quality_.finish(); });
   accumulator_.finish();
   RunMetrics m;
   m.job_name = job_name_;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <string>
@@ -101,16 +102,72 @@ void benchmark(const ChainConfig& config, const OpticalModel& optics, const std:
   std::printf("\njob %s: %llu samples = %.2f ms of machine time, %d runs, chunk %zu samples\n", spec.c_str(),
               static_cast<unsigned long long>(samples), job_time * 1e3, repeat, config.stream.chunk_samples);
   std::printf("%-22s %14s %14s %14s %12s\n", "stage", "Msamples/s", "worst Ms/s", "best Ms/s", "share");
-  const char* names[] = {"nc_interpolator", "galvo_servo", "optical_chain", "energy_accumulator", "setup (alloc, map)"};
+  const char* names[] = {"nc_interpolator", "galvo_servo", "optical_chain", "energy (map+metrics)",
+                         "setup (plan, alloc)"};
   for (int i = 0; i < 5; ++i)
     std::printf("%-22s %14.2f %14.2f %14.2f %11.1f%%\n", names[i], samples / stats[i].mean() * 1e-6,
                 samples / stats[i].max() * 1e-6, samples / stats[i].min() * 1e-6,
                 100 * stats[i].mean() / stats[5].mean());
-  std::printf("%-22s %14.2f   real-time factor: mean %.1fx, worst %.1fx, best %.1fx\n", "whole chain",
+  std::printf("%-22s %14.2f   real-time factor: mean %.1fx, worst %.1fx, best %.1fx\n", "stages one by one",
               samples / stats[5].mean() * 1e-6, job_time / stats[5].mean(), job_time / stats[5].max(),
               job_time / stats[5].min());
+  // The chain as scanhead_run drives it: BatchChain, pipelined on stream.threads threads.
+  Stats pipeline;
+  for (int r = 0; r < repeat; ++r)
+  {
+    const auto start = Clock::now();
+    BatchChain chain(config, optics);
+    chain.run(job);
+    pipeline.values.push_back(seconds(Clock::now() - start));
+  }
+  char label[64];
+  std::snprintf(label, sizeof label, "batch chain, %zu thread%s", config.stream.threads,
+                config.stream.threads > 1 ? "s" : "");
+  std::printf("%-22s %14.2f   real-time factor: mean %.1fx, worst %.1fx, best %.1fx\n", label,
+              samples / pipeline.mean() * 1e-6, job_time / pipeline.mean(), job_time / pipeline.max(),
+              job_time / pipeline.min());
   std::printf("process peak memory so far (VmHWM): %.1f MiB\n", processPeakResidentBytes() / 1048576.0);
 }
+/// Wall time per stage against job length: square hatches at 1 m/s from a few ms to ~300 s of
+/// machine time (100 µm spacing up to 30 mm squares, then denser lines on 30 mm so that the map
+/// stays in the tile cache), one run each after a warm-up; one CSV row per job.
+void benchmarkScaling(const ChainConfig& config, const OpticalModel& optics, const std::string& csv_path)
+{
+  const std::pair<double, double> hatches[] = {{0.0002, 1e-4}, {0.0005, 1e-4}, {0.001, 1e-4}, {0.002, 1e-4},
+                                               {0.005, 1e-4},  {0.01, 1e-4},   {0.03, 1e-4},  {0.03, 3e-5},
+                                               {0.03, 1e-5},   {0.03, 3e-6}};
+  std::ofstream csv(csv_path);
+  if (!csv)
+    throw std::runtime_error(csv_path + ": cannot write");
+  csv << "job,samples,machine_s,nc_s,servo_s,optics_s,energy_s,setup_s,stages_s,batch_chain_s\n";
+  std::printf("\nscaling: wall time per stage against job length -> %s\n%-40s %12s %10s %10s %10s\n", csv_path.c_str(),
+              "job", "machine s", "stages s", "chain s", "x real");
+  bool warm = false;
+  for (const auto& [size_m, spacing_m] : hatches)
+  {
+    char spec[96];
+    std::snprintf(spec, sizeof spec, "hatch:size=%g,spacing=%g,speed=1", size_m, spacing_m);
+    const Job job = loadJob(spec, config.cam);
+    validateScanJob(job, config.optics.field_half_width_m);
+    std::uint64_t samples = 0;
+    if (!warm)
+      timedRun(config, optics, job, samples);  // page faults, caches
+    warm = true;
+    const std::vector<double> t = timedRun(config, optics, job, samples);
+    const auto start = Clock::now();
+    BatchChain chain(config, optics);
+    chain.run(job);
+    const double chain_s = seconds(Clock::now() - start);
+    const double machine_s = static_cast<double>(samples) * config.nc.period_s;
+    csv << spec << ',' << samples << ',' << machine_s;
+    for (const double v : t)
+      csv << ',' << v;
+    csv << ',' << chain_s << '\n';
+    std::printf("%-40s %12.4g %10.4g %10.4g %10.1f\n", spec, machine_s, t[5], chain_s, machine_s / chain_s);
+    std::fflush(stdout);
+  }
+}
+
 /// NC throughput for each option of issue 3, alone (no downstream stage), on one job.
 void benchmarkNcOptions(const std::string& config_path, const std::vector<std::string>& overrides,
                         const OpticalModel& optics, const std::string& spec, int repeat)
@@ -233,6 +290,7 @@ int main(int argc, char** argv)
     int repeat = 20;
     bool chain_only = false;
     double contour_points_option = 1e7;
+    std::string scaling_csv;
     CLI::App app("Throughput of each stage and real-time factor of the in-process chain.", "scanhead_benchmark");
     configureApp(app);
     app.footer(
@@ -256,6 +314,10 @@ int main(int argc, char** argv)
                    "points of the synthetic hatch for the contour errors (default 1e7, at least 1000)")
         ->type_name("N")
         ->transform(check::positiveNumber());
+    app.add_option("--scaling", scaling_csv,
+                   "instead of the above: wall time per stage against job length (square hatches from ms to "
+                   "~300 s of machine time) into this CSV (scripts/plot_scaling.py draws it)")
+        ->type_name("CSV");
     if (!parseCommandLine(app, argc, argv))
       return 0;
     const std::string& config_path = config_arguments.path;
@@ -265,6 +327,11 @@ int main(int argc, char** argv)
       jobs = {"corner", "hatch"};
     const ChainConfig config = loadChainConfig(resolvePackagePath(config_path), overrides);
     const OpticalModel optics = loadOpticalModel(config.optics);
+    if (!scaling_csv.empty())
+    {
+      benchmarkScaling(config, optics, scaling_csv);
+      return 0;
+    }
     for (const auto& job : jobs)
       benchmark(config, optics, job, repeat);
     if (chain_only)

@@ -98,6 +98,22 @@ TEST(BatchChain, ChunkingDoesNotChangeResults)
   }
 }
 
+// One thread or two (NC → servo → optics pipelined with the energy stage, trackers beside the map):
+// bit-identical metrics and map, whatever the chunking.
+TEST(BatchChain, ThreadsDoNotChangeResults)
+{
+  for (const char* job : {"corner", "hatch:size=0.002,spacing=0.0002"})
+  {
+    const ChainRun one = runJob(job, {"stream.threads=1"});
+    for (const char* chunk : {"1000", "7"})
+    {
+      const ChainRun two = runJob(job, {"stream.threads=2", std::string("stream.chunk_samples=") + chunk});
+      EXPECT_EQ(metricsToYaml(two.metrics), metricsToYaml(one.metrics)) << job << ", chunks of " << chunk;
+      EXPECT_TRUE(two.map == one.map) << job << ": energy map differs on two threads, chunks of " << chunk;
+    }
+  }
+}
+
 // The bounded-memory paths of the energy stage do not depend on the chunking either: the track
 // thinned to every 8th laser-on sample (cap 100), a 1 MiB tile cache that spills, the nearest-path
 // contour error switched off by its cap; and thinning keeps the straight-track level within 2 %.

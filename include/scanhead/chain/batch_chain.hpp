@@ -19,6 +19,11 @@ using ProgressCallback = std::function<void(std::uint64_t done, std::uint64_t to
 
 /// \brief The stages of chain_stages.hpp, driven in one process: reset each for the job (the NC
 /// first: its plan resets the others), then chunk by chunk NC → servo → optics → energy.
+///
+/// With stream.threads = 2 (the default) the chain is a two-stage pipeline: NC, servo and optics
+/// run on a second thread and hand their spot chunks to the energy stage (on the calling thread)
+/// through a queue of a few chunks, so memory stays bounded; each side takes the chunks in stream
+/// order, so the results are bit-identical to stream.threads = 1 (everything on the calling thread).
 class BatchChain
 {
 public:
@@ -26,6 +31,8 @@ public:
   BatchChain(const ChainConfig& config, const OpticalModel& optics);
 
   /// \brief Runs a validated job to the end. The energy stage stays available for the map and traces.
+  /// \p progress is called on the calling thread. An exception of any stage stops both threads and
+  /// reaches the caller.
   RunMetrics run(const Job& job, const ProgressCallback& progress = {});
 
   const EnergyStage& energy() const { return energy_.stage(); }
@@ -33,6 +40,8 @@ public:
   std::uint64_t totalSamples() const { return nc_.interpolator().totalSamples(); }
 
 private:
+  SpotChunk nextSpotChunk();  ///< NC → servo → optics for the next chunk
+
   ChainConfig config_;
   NcStage nc_;
   ServoStage servo_;

@@ -20,6 +20,9 @@ struct StreamConfig
 {
   std::size_t chunk_samples = 1000;  ///< samples per chunk of every full-rate stream (10 ms at 100 kHz)
   std::size_t window_chunks = 16;    ///< chunks the NC may run ahead of the last consumer (graph flow control)
+  /// Threads of the batch chain and the energy stage: 1 (all on the caller's), 2 (NC → servo → optics
+  /// pipelined with the energy stage, whose trackers run beside the map). Results are bit-identical.
+  std::size_t threads = 2;
 
   void validate() const;
 };

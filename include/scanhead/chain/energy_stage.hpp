@@ -31,11 +31,12 @@ public:
   ///                 actual path is, total_samples the plot decimation. Copied where needed.
   /// \throws std::invalid_argument if the plan has no servo delay (an NC built without the servo model)
   EnergyStage(const ChainConfig& config, const Job& job, const NcPlan& plan);
-  /// \brief Deposits the chunk's energy and feeds every tracker; the trackers run on a second thread
-  /// while the map is written (they share only the read-only chunk), joined before returning.
+  /// \brief Deposits the chunk's energy and feeds every tracker; with stream.threads = 2 the trackers
+  /// run on a second thread while the map is written (they share only the read-only chunk), joined
+  /// before returning.
   void process(const SpotChunk& chunk);
-  /// \brief Ends the stream and returns the run's metrics (the nearest-path pass on a second
-  /// thread while the map is read).
+  /// \brief Ends the stream and returns the run's metrics (with stream.threads = 2, the nearest-path
+  /// pass on a second thread while the map is read).
   RunMetrics finish();
 
   const TiledEnergyMap& map() const { return accumulator_.map(); }
