@@ -111,9 +111,26 @@ void EnergyStage::process(const SpotChunk& chunk)
     accumulator_.process(chunk);
     return;
   }
-  auto trackers = std::async(std::launch::async, track);
-  accumulator_.process(chunk);
-  trackers.get();
+  if (!side_)
+    side_ = std::make_unique<SideThread>();
+  side_->start(track);
+  try
+  {
+    accumulator_.process(chunk);
+  }
+  catch (...)
+  {
+    // The trackers read the chunk: let them finish before it goes (their own error is secondary).
+    try
+    {
+      side_->wait();
+    }
+    catch (...)
+    {
+    }
+    throw;
+  }
+  side_->wait();
 }
 
 void EnergyStage::feedThermal(const SpotChunk& chunk)

@@ -7,6 +7,7 @@
 
 #include "scanhead/chain/chain_config.hpp"
 #include "scanhead/chain/trace_recorder.hpp"
+#include "scanhead/common/side_thread.hpp"
 #include "scanhead/energy/energy_accumulator.hpp"
 #include "scanhead/job/scan_job.hpp"
 #include "scanhead/metrics/laser_placement.hpp"
@@ -69,5 +70,6 @@ private:
   LayerQuality quality_;
   std::unique_ptr<ThermalLayer> thermal_;  ///< optional (thermal.enabled)
   std::uint64_t thermal_samples_ = 0;      ///< samples given to it
+  std::unique_ptr<SideThread> side_;       ///< runs the trackers beside the map (stream.threads = 2)
 };
 }  // namespace scanhead
