@@ -201,7 +201,12 @@ struct NcInterpolator::State
   std::vector<Eigen::Vector2d> distinct_x;  ///< their points
   std::vector<Eigen::Vector2d> distinct_q;  ///< their solutions
   std::vector<unsigned char> distinct_ok;   ///< accepted by the block IGT
-  std::unique_ptr<GalvoServo> predictor;    ///< power_mode "predicted": the servo model on the setpoint
+  // per sample of the chunk, fixed filters: Q_filt1 and its velocity, s and ṡ, FIR T2's output and
+  // derivative, and the plane filters (power ∝ speed)
+  std::vector<Eigen::Vector2d> q_filt1, q_filt1_dot;
+  std::vector<Eigen::Vector4d> s_and_rate, filt2_average, filt2_derivative;
+  std::vector<Eigen::Vector2d> plane_average, plane_average2, plane_derivative;
+  std::unique_ptr<GalvoServo> predictor;  ///< power_mode "predicted": the servo model on the setpoint
   std::uint64_t next = 0;
   std::string job_name;
   NcStats stats;
@@ -505,6 +510,35 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
   }
   solveChunk(count);
 
+  if (!st.adaptive)
+  {
+    // FIR T1, velocity saturation, FIR T2 (per axis, joint space), a chunk at a time
+    // (BoxFilter::pushBlock: the same numbers as sample by sample).
+    st.q_filt1.resize(count);
+    st.q_filt1_dot.resize(count);
+    st.s_and_rate.resize(count);
+    st.filt2_average.resize(count);
+    st.filt2_derivative.resize(count);
+    st.fir1.pushBlock(st.q_igt.data(), count, st.q_filt1.data(), st.q_filt1_dot.data());
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      Eigen::Vector2d s;
+      Eigen::Vector2d s_dot;
+      st.limiter.step(st.q_filt1[i], st.q_filt1_dot[i], s, s_dot);
+      st.s_and_rate[i] << s, s_dot;
+    }
+    st.fir2.pushBlock(st.s_and_rate.data(), count, st.filt2_average.data(), st.filt2_derivative.data());
+    if (speed_power)
+    {
+      // the same filters on X_inter: the plane speed of the filtered path
+      st.plane_average.resize(count);
+      st.plane_average2.resize(count);
+      st.plane_derivative.resize(count);
+      st.plane_fir1.pushBlock(st.x_inter.data(), count, st.plane_average.data(), nullptr);
+      st.plane_fir2.pushBlock(st.plane_average.data(), count, st.plane_average2.data(), st.plane_derivative.data());
+    }
+  }
+
   for (std::size_t i = 0; i < count; ++i)
   {
     const std::uint64_t n = st.next + i;
@@ -518,25 +552,14 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
       const Eigen::Vector2d q = st.q_igt[i];
       st.q_prev2 = st.q_prev;
       st.q_prev = q;
-      // FIR T1, velocity saturation, FIR T2 (per axis, joint space).
-      st.fir1.push(q);
-      const Eigen::Vector2d q_filt1 = st.fir1.average();
-      const Eigen::Vector2d q_filt1_dot = st.fir1.derivative();
-      Eigen::Vector2d s;
-      Eigen::Vector2d s_dot;
-      st.limiter.step(q_filt1, q_filt1_dot, s, s_dot);
-      Eigen::Vector4d s_and_rate;
-      s_and_rate << s, s_dot;
-      st.fir2.push(s_and_rate);
-      const Eigen::Vector4d d = st.fir2.derivative();
-      sp.position = t2_identity ? s : Eigen::Vector2d(st.fir2.average().head<2>());
-      sp.velocity = t2_identity ? s_dot : Eigen::Vector2d(d.head<2>());
-      sp.acceleration = d.tail<2>();
+      const Eigen::Vector2d s = st.s_and_rate[i].head<2>();
+      sp.position = t2_identity ? s : Eigen::Vector2d(st.filt2_average[i].head<2>());
+      sp.velocity =
+          t2_identity ? Eigen::Vector2d(st.s_and_rate[i].tail<2>()) : Eigen::Vector2d(st.filt2_derivative[i].head<2>());
+      sp.acceleration = st.filt2_derivative[i].tail<2>();
       if (speed_power)
       {
-        st.plane_fir1.push(x);
-        st.plane_fir2.push(st.plane_fir1.average());
-        plane_speed = st.plane_fir2.derivative().norm();
+        plane_speed = st.plane_derivative[i].norm();
       }
       if (config_.debug)
       {
@@ -547,8 +570,8 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
         dbg.q_inter_acceleration = (q - 2.0 * st.q_prev2 + st.q_inter_prev2) / (ts * ts);
         st.q_inter_prev2 = st.q_prev2;
         st.inter_rate_fir1.push(dbg.q_inter_velocity);
-        dbg.q_filt1 = q_filt1;
-        dbg.q_filt1_velocity = q_filt1_dot;
+        dbg.q_filt1 = st.q_filt1[i];
+        dbg.q_filt1_velocity = st.q_filt1_dot[i];
         dbg.q_filt1_acceleration = st.inter_rate_fir1.derivative();
       }
     }
