@@ -10,6 +10,65 @@
 
 namespace scanhead
 {
+namespace
+{
+/// y[i] = Σ_j w[j]·(h[i + j] − h[i + taps − 1]) for i < count, each sum added in the order
+/// j = 0, 1, … as average() adds it; j is the outer loop so the samples vectorise. AVX2 clone:
+/// the same operations (no FMA), so the same bits.
+__attribute__((target_clones("avx2", "default"))) void tapSums(const double* __restrict h, const double* __restrict w,
+                                                               std::size_t taps, std::size_t count,
+                                                               double* __restrict y)
+{
+  const double* latest = h + (taps - 1);
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    y[i] = 0.0;
+  }
+  for (std::size_t j = 0; j < taps; ++j)
+  {
+    const double wj = w[j];
+    const double* hj = h + j;
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      y[i] += wj * (hj[i] - latest[i]);
+    }
+  }
+}
+}  // namespace
+
+template <int N>
+void BoxFilter<N>::pushBlock(const Vector* x, std::size_t count, Vector* average, Vector* derivative)
+{
+  // h[k] = x_{n0 − history + k}: the history (sampleAgo(history − 1 − k) before the block), then x.
+  const std::size_t history = taps_ - 1;
+  block_history_.resize(history + count);
+  block_sums_.resize(count);
+  for (int c = 0; c < N; ++c)
+  {
+    for (std::size_t k = 0; k < history; ++k)
+    {
+      block_history_[k] = sampleAgo(history - 1 - k)[c];
+    }
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      block_history_[history + i] = x[i][c];
+    }
+    tapSums(block_history_.data(), weights_.data(), taps_, count, block_sums_.data());
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      average[i][c] = block_history_[history + i] + block_sums_[i];
+    }
+  }
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    push(x[i]);
+    if (derivative != nullptr)
+    {
+      derivative[i] = this->derivative();
+    }
+  }
+}
+
 template <int N>
 BoxFilter<N>::BoxFilter()
   : BoxFilter(0.0, 1e-5)

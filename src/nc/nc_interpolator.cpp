@@ -53,7 +53,10 @@ Recipe followFilteredSetpoint(const NcConfig& config)
   return recipe;
 }
 
-constexpr double kLimitSlack = 1.0 + 1e-6;  ///< relative slack before a sample counts as over a limit
+constexpr double kLimitSlack = 1.0 + 1e-6;
+
+/// Nodes per axis of the Newton IGT's predictor table (bicubic error < 0.05 nm, built in ~2.5 ms).
+constexpr int kPredictorNodes = 65;  ///< relative slack before a sample counts as over a limit
 
 /// J̇·q̇ = (dJ/dt)·q̇, the curvature term of ẍ = J q̈ + J̇ q̇: a central difference of the Jacobian
 /// along q̇ (steps of 1e-6 rad: truncation ~1e-12, rounding ~1e-10 relative).
@@ -79,6 +82,13 @@ struct NcInterpolator::Igt
   bool use_table = false;
   CorrectionTable table;
   TableInterpolation interpolation = TableInterpolation::Bilinear;
+  /// Newton: the start of every sample's Newton (bicubic 65 × 65 table over the field and the
+  /// nodes' J⁻¹, bilinear); absent if the optics cannot reach a node (then the sequential warm start).
+  bool have_predictor = false;
+  CorrectionTable predictor;
+  // scratch of solveBlock (structure of arrays)
+  std::vector<double> q_x, q_y, spot_x, spot_y;
+  std::vector<Eigen::Matrix2d> step;
 
   Eigen::Vector2d solve(const OpticalModel& optics, const Eigen::Vector2d& x, const Eigen::Vector2d& guess) const
   {
@@ -93,6 +103,67 @@ struct NcInterpolator::Igt
     catch (const NumericalError&)
     {
       return optics.inverse(x, Eigen::Vector2d::Zero());
+    }
+  }
+
+  /// \brief Newton IGT of \p n points at once, each independent of the others (so of chunking):
+  /// q⁰ from the predictor table, whose error is < 0.05 nm on the plane (correction_table.hpp),
+  /// then one simplified Newton step q¹ = q⁰ + M (x − h(q⁰)) with M the interpolated J⁻¹
+  /// (contraction |I − M J| < ~1e-3, so |x − h(q¹)| ~ 1e-16 m). Both residuals are traced
+  /// (OpticalModel::traceBlock, bit-identical to trace()): a point is accepted, as by
+  /// OpticalModel::inverse, only where |x − h(q)| <= newton_tolerance_m and q is within the joint
+  /// limits. Elsewhere ok[i] = 0 and q[i] is the best start for the scalar Newton.
+  /// \pre have_predictor
+  void solveBlock(const OpticalModel& optics, std::size_t n, const Eigen::Vector2d* x, Eigen::Vector2d* q,
+                  unsigned char* ok)
+  {
+    q_x.resize(n);
+    q_y.resize(n);
+    spot_x.resize(n);
+    spot_y.resize(n);
+    step.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      Eigen::Vector2d q0 = Eigen::Vector2d::Zero();
+      ok[i] = predictor.jointsAndInverseJacobian(x[i], q0, step[i]) ? 1 : 0;
+      if (!ok[i])
+      {
+        step[i].setZero();
+      }
+      q_x[i] = q0.x();
+      q_y[i] = q0.y();
+    }
+    // The step is taken even where q⁰ is already within the tolerance (about 1 point in 20): it
+    // costs nothing (the second trace is done for the block anyway) and leaves ~1e-16 m.
+    const double tolerance = optics.config().newton_tolerance_m;
+    optics.traceBlock(n, q_x.data(), q_y.data(), spot_x.data(), spot_y.data());
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const double e_x = x[i].x() - spot_x[i];
+      const double e_y = x[i].y() - spot_y[i];
+      const Eigen::Matrix2d& m = step[i];
+      q_x[i] += m(0, 0) * e_x + m(0, 1) * e_y;
+      q_y[i] += m(1, 0) * e_x + m(1, 1) * e_y;
+    }
+    optics.traceBlock(n, q_x.data(), q_y.data(), spot_x.data(), spot_y.data());
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const double e_x = x[i].x() - spot_x[i];
+      const double e_y = x[i].y() - spot_y[i];
+      // the criterion of OpticalModel::inverse, |error| <= tol (false for NaN: a ray that failed)
+      ok[i] = (ok[i] == 1 && std::sqrt(e_x * e_x + e_y * e_y) <= tolerance) ? 2 : 0;
+    }
+    const double lo = optics.geometry().joint_lower_rad;
+    const double hi = optics.geometry().joint_upper_rad;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      q[i] = Eigen::Vector2d(q_x[i], q_y[i]);
+      const bool inside = q_x[i] >= lo && q_x[i] <= hi && q_y[i] >= lo && q_y[i] <= hi;
+      ok[i] = (ok[i] == 2 && inside) ? 1 : 0;
+      if (!std::isfinite(q_x[i]) || !std::isfinite(q_y[i]))
+      {
+        q[i].setZero();
+      }
     }
   }
 };
@@ -120,7 +191,21 @@ struct NcInterpolator::State
   Eigen::Vector2d q_inter_prev = Eigen::Vector2d::Zero();  ///< debug, adaptive: Q_inter history
   Eigen::Vector2d q_inter_prev2 = Eigen::Vector2d::Zero();
   Eigen::Vector2d accel_prev = Eigen::Vector2d::Zero();
-  std::vector<double> plane_speeds;       ///< per sample of the chunk: speed the power follows [m/s]
+  std::vector<double> plane_speeds;  ///< per sample of the chunk: speed the power follows [m/s]
+  // per sample of the chunk: X_inter, the IGT's point (X_inter, or X_filt2 adaptive), its solution
+  std::vector<Eigen::Vector2d> x_inter;
+  std::vector<PlaneState> filt2;
+  std::vector<Eigen::Vector2d> igt_point;
+  std::vector<Eigen::Vector2d> q_igt;
+  std::vector<std::size_t> distinct;        ///< samples whose IGT point differs from the one before
+  std::vector<Eigen::Vector2d> distinct_x;  ///< their points
+  std::vector<Eigen::Vector2d> distinct_q;  ///< their solutions
+  std::vector<unsigned char> distinct_ok;   ///< accepted by the block IGT
+  // per sample of the chunk, fixed filters: Q_filt1 and its velocity, s and ṡ, FIR T2's output and
+  // derivative, and the plane filters (power ∝ speed)
+  std::vector<Eigen::Vector2d> q_filt1, q_filt1_dot;
+  std::vector<Eigen::Vector4d> s_and_rate, filt2_average, filt2_derivative;
+  std::vector<Eigen::Vector2d> plane_average, plane_average2, plane_derivative;
   std::unique_ptr<GalvoServo> predictor;  ///< power_mode "predicted": the servo model on the setpoint
   std::uint64_t next = 0;
   std::string job_name;
@@ -160,6 +245,18 @@ NcInterpolator::NcInterpolator(const NcConfig& config, const Recipe& recipe, con
     igt_->table = config_.igt.table_file.empty()
                       ? CorrectionTable::build(optics_, config_.igt.table_nodes, optics_.config().field_half_width_m)
                       : CorrectionTable::load(config_.igt.table_file);
+  }
+  else
+  {
+    try
+    {
+      igt_->predictor = CorrectionTable::build(optics_, kPredictorNodes, optics_.config().field_half_width_m);
+      igt_->have_predictor = true;
+    }
+    catch (const NumericalError&)
+    {
+      igt_->have_predictor = false;  // a node out of reach: every sample warm-started from the last
+    }
   }
   if (config_.filter_mode == "adaptive" || config_.cap_speeds)
   {
@@ -335,52 +432,134 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
     }
   };
 
-  // The setpoint's IGT with its warm start; a point equal to the previous one reuses its solution.
-  auto inverse = [&](const Eigen::Vector2d& x, std::uint64_t n, double t_s) -> Eigen::Vector2d {
-    if (x == st.x_prev)
+  // The IGT of st.igt_point[0, count) into st.q_igt. A point equal to the previous one reuses its
+  // solution (holds, the tail). Newton with the predictor: the distinct points in one block
+  // (Igt::solveBlock; each sample's solution depends on its point only), the few it does not
+  // accept by the scalar Newton from its last iterate. Without it: each warm-started from the
+  // linear extrapolation 2·q_{n−1} − q_{n−2} of the previous solutions (O(q̈·Ts²) off).
+  auto solveChunk = [&](std::size_t count_) {
+    st.distinct.clear();
+    st.distinct_x.clear();
+    Eigen::Vector2d previous = st.x_prev;
+    for (std::size_t i = 0; i < count_; ++i)
     {
-      return st.q_prev;
+      if (!(st.igt_point[i] == previous))
+      {
+        previous = st.igt_point[i];
+        st.distinct.push_back(i);
+        st.distinct_x.push_back(previous);
+      }
     }
-    // Warm start extrapolated from the last two solutions (2·q_{n−1} − q_{n−2}): on a segment its
-    // error is O(q̈·Ts²) ~ 1e-10 rad, so Newton needs one step plus the converged check (two ray
-    // traces) instead of two steps from q_{n−1}.
-    const Eigen::Vector2d q = solveOrAbandon(x, 2.0 * st.q_prev - st.q_prev2, n, t_s, "path point");
-    st.x_prev = x;
-    return q;
+    const std::size_t m = st.distinct.size();
+    st.distinct_q.resize(m);
+    st.distinct_ok.assign(m, 0);
+    const bool block = !igt_->use_table && igt_->have_predictor;
+    if (block && m > 0)
+    {
+      igt_->solveBlock(optics_, m, st.distinct_x.data(), st.distinct_q.data(), st.distinct_ok.data());
+    }
+    std::size_t d = 0;
+    Eigen::Vector2d q_prev = st.q_prev;
+    Eigen::Vector2d q_prev2 = st.q_prev2;
+    for (std::size_t i = 0; i < count_; ++i)
+    {
+      Eigen::Vector2d q = q_prev;
+      if (d < m && st.distinct[d] == i)
+      {
+        const std::uint64_t n = st.next + i;
+        const double t_s = static_cast<double>(n) * ts;
+        if (block)
+        {
+          q = st.distinct_ok[d] ? st.distinct_q[d]
+                                : solveOrAbandon(st.distinct_x[d], st.distinct_q[d], n, t_s, "path point");
+        }
+        else
+        {
+          q = solveOrAbandon(st.distinct_x[d], 2.0 * q_prev - q_prev2, n, t_s, "path point");
+        }
+        st.x_prev = st.distinct_x[d];
+        ++d;
+      }
+      st.q_igt[i] = q;
+      q_prev2 = q_prev;
+      q_prev = q;
+    }
   };
+
+  // X_inter (and X_filt2, adaptive) of the whole chunk, then its IGT, then the sequential filters.
+  st.x_inter.resize(count);
+  st.igt_point.resize(count);
+  st.q_igt.resize(count);
+  if (st.adaptive)
+  {
+    st.filt2.resize(count);
+  }
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const double t_s = static_cast<double>(st.next + i) * ts;
+    st.x_inter[i] = timeline.positionAt(t_s, st.path_cursor);
+    if (st.adaptive)
+    {
+      st.filt2[i] = st.adaptive_fir.filtered(t_s, st.filt2_cursor);
+      st.igt_point[i] = st.filt2[i].position;
+    }
+    else
+    {
+      st.igt_point[i] = st.x_inter[i];
+    }
+  }
+  solveChunk(count);
+
+  if (!st.adaptive)
+  {
+    // FIR T1, velocity saturation, FIR T2 (per axis, joint space), a chunk at a time
+    // (BoxFilter::pushBlock: the same numbers as sample by sample).
+    st.q_filt1.resize(count);
+    st.q_filt1_dot.resize(count);
+    st.s_and_rate.resize(count);
+    st.filt2_average.resize(count);
+    st.filt2_derivative.resize(count);
+    st.fir1.pushBlock(st.q_igt.data(), count, st.q_filt1.data(), st.q_filt1_dot.data());
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      Eigen::Vector2d s;
+      Eigen::Vector2d s_dot;
+      st.limiter.step(st.q_filt1[i], st.q_filt1_dot[i], s, s_dot);
+      st.s_and_rate[i] << s, s_dot;
+    }
+    st.fir2.pushBlock(st.s_and_rate.data(), count, st.filt2_average.data(), st.filt2_derivative.data());
+    if (speed_power)
+    {
+      // the same filters on X_inter: the plane speed of the filtered path
+      st.plane_average.resize(count);
+      st.plane_average2.resize(count);
+      st.plane_derivative.resize(count);
+      st.plane_fir1.pushBlock(st.x_inter.data(), count, st.plane_average.data(), nullptr);
+      st.plane_fir2.pushBlock(st.plane_average.data(), count, st.plane_average2.data(), st.plane_derivative.data());
+    }
+  }
 
   for (std::size_t i = 0; i < count; ++i)
   {
     const std::uint64_t n = st.next + i;
     const double t_s = static_cast<double>(n) * ts;
-    const Eigen::Vector2d x = timeline.positionAt(t_s, st.path_cursor);
+    const Eigen::Vector2d& x = st.x_inter[i];
     SetpointSample& sp = out.setpoint.samples[i];
     double plane_speed = 0.0;
 
     if (!st.adaptive)
     {
-      const Eigen::Vector2d q = inverse(x, n, t_s);
+      const Eigen::Vector2d q = st.q_igt[i];
       st.q_prev2 = st.q_prev;
       st.q_prev = q;
-      // FIR T1, velocity saturation, FIR T2 (per axis, joint space).
-      st.fir1.push(q);
-      const Eigen::Vector2d q_filt1 = st.fir1.average();
-      const Eigen::Vector2d q_filt1_dot = st.fir1.derivative();
-      Eigen::Vector2d s;
-      Eigen::Vector2d s_dot;
-      st.limiter.step(q_filt1, q_filt1_dot, s, s_dot);
-      Eigen::Vector4d s_and_rate;
-      s_and_rate << s, s_dot;
-      st.fir2.push(s_and_rate);
-      const Eigen::Vector4d d = st.fir2.derivative();
-      sp.position = t2_identity ? s : Eigen::Vector2d(st.fir2.average().head<2>());
-      sp.velocity = t2_identity ? s_dot : Eigen::Vector2d(d.head<2>());
-      sp.acceleration = d.tail<2>();
+      const Eigen::Vector2d s = st.s_and_rate[i].head<2>();
+      sp.position = t2_identity ? s : Eigen::Vector2d(st.filt2_average[i].head<2>());
+      sp.velocity =
+          t2_identity ? Eigen::Vector2d(st.s_and_rate[i].tail<2>()) : Eigen::Vector2d(st.filt2_derivative[i].head<2>());
+      sp.acceleration = st.filt2_derivative[i].tail<2>();
       if (speed_power)
       {
-        st.plane_fir1.push(x);
-        st.plane_fir2.push(st.plane_fir1.average());
-        plane_speed = st.plane_fir2.derivative().norm();
+        plane_speed = st.plane_derivative[i].norm();
       }
       if (config_.debug)
       {
@@ -391,15 +570,15 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
         dbg.q_inter_acceleration = (q - 2.0 * st.q_prev2 + st.q_inter_prev2) / (ts * ts);
         st.q_inter_prev2 = st.q_prev2;
         st.inter_rate_fir1.push(dbg.q_inter_velocity);
-        dbg.q_filt1 = q_filt1;
-        dbg.q_filt1_velocity = q_filt1_dot;
+        dbg.q_filt1 = st.q_filt1[i];
+        dbg.q_filt1_velocity = st.q_filt1_dot[i];
         dbg.q_filt1_acceleration = st.inter_rate_fir1.derivative();
       }
     }
     else
     {
-      const PlaneState filt2 = st.adaptive_fir.filtered(t_s, st.filt2_cursor);
-      const Eigen::Vector2d q = inverse(filt2.position, n, t_s);
+      const PlaneState& filt2 = st.filt2[i];
+      const Eigen::Vector2d q = st.q_igt[i];
       st.q_prev2 = st.q_prev;
       st.q_prev = q;
       const Eigen::Matrix2d inverse_jacobian = optics_.jacobian(q).inverse();

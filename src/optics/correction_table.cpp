@@ -207,6 +207,40 @@ Eigen::Vector2d CorrectionTable::joints(const Eigen::Vector2d& spot_m, TableInte
   return Eigen::Vector2d(out[0], out[1]);
 }
 
+bool CorrectionTable::jointsAndInverseJacobian(const Eigen::Vector2d& spot_m, Eigen::Vector2d& q,
+                                               Eigen::Matrix2d& dq_dx) const
+{
+  const double h = half_width_m_;
+  const double limit = h + kEdgeTolerance_m;
+  if (!(std::abs(spot_m.x()) <= limit && std::abs(spot_m.y()) <= limit) || nodes_ < 2)
+    return false;
+  q = joints(spot_m, TableInterpolation::Bicubic);
+  // The same cell and (u, v) as joints().
+  const int last_cell = nodes_ - 2;
+  const double tx = (spot_m.x() + h) * inv_spacing_;
+  const double ty = (spot_m.y() + h) * inv_spacing_;
+  int i = static_cast<int>(tx);
+  int j = static_cast<int>(ty);
+  i = i < 0 ? 0 : (i > last_cell ? last_cell : i);
+  j = j < 0 ? 0 : (j > last_cell ? last_cell : j);
+  const double u = tx - i;
+  const double v = ty - j;
+  const Node& n00 = node_[index(i, j)];
+  const Node& n10 = node_[index(i, j) + 1];
+  const Node& n01 = node_[index(i, j + 1)];
+  const Node& n11 = node_[index(i, j + 1) + 1];
+  const double w00 = (1.0 - u) * (1.0 - v);
+  const double w10 = u * (1.0 - v);
+  const double w01 = (1.0 - u) * v;
+  const double w11 = u * v;
+  for (int c = 0; c < 2; ++c)
+  {
+    dq_dx(c, 0) = w00 * n00.q_x[c] + w10 * n10.q_x[c] + w01 * n01.q_x[c] + w11 * n11.q_x[c];
+    dq_dx(c, 1) = w00 * n00.q_y[c] + w10 * n10.q_y[c] + w01 * n01.q_y[c] + w11 * n11.q_y[c];
+  }
+  return true;
+}
+
 void CorrectionTable::save(const std::string& path) const
 {
   const std::string tmp = path + ".tmp";

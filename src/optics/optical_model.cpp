@@ -3,12 +3,36 @@
 #include "scanhead/optics/optical_model.hpp"
 
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
 #include <sstream>
 
 #include "scanhead/common/errors.hpp"
 
 namespace scanhead
 {
+namespace detail
+{
+template <typename T>
+struct V3
+{
+  T x, y, z;
+};
+
+/// The constant surfaces of the trace, as plain doubles.
+struct TraceSurfaces
+{
+  V3<double> source_point, source_direction;
+  V3<double> mx_n_c, mx_n_s, mx_n_0, mx_p_c, mx_p_s, mx_p_0;
+  V3<double> my_n_c, my_n_s, my_n_0, my_p_c, my_p_s, my_p_0;
+  V3<double> w1_point, w1_normal, w2_point, w2_normal;
+  V3<double> plane_point, plane_normal;
+  V3<double> rt0, rt1, rt2;  ///< rows of the base -> work-plane rotation
+  double thickness, eta;
+};
+}  // namespace detail
+
 namespace
 {
 using Vec3 = Eigen::Vector3d;
@@ -188,6 +212,235 @@ void crossPlate(RayState& r, const Vec3& point, const Vec3& normal, double thick
   }
   r.p += length * inside;
 }
+
+// ---------------------------------------------------------------------------------------------
+// The plain ray trace (no Jacobian) as one kernel over a number type T: T = double for trace(),
+// T = Lanes (kLanes rays in the lanes of a GCC vector) for traceBlock(). Both instantiations
+// perform the same IEEE operations (add, sub, mul, div, sqrt; no FMA: the build has no -mfma and
+// the AVX2 clone does not enable it) in the same order, so a ray gives the same bits whichever
+// way it is traced. The order is that of the Eigen expressions of traceImpl<true> (dot products
+// (a0 b0 + a1 b1) + a2 b2, c·u + s·v + w left to right), checked bit for bit by the tests.
+
+// Every lane helper is inlined into traceLanes (and its clones), so passing 32-byte vectors by
+// value never crosses a call: GCC's note on their ABI without AVX does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+#define SCANHEAD_INLINE inline __attribute__((always_inline))
+
+typedef double Lanes __attribute__((vector_size(32)));
+typedef long long LaneMask __attribute__((vector_size(32)));
+constexpr int kLanes = 4;
+
+using detail::V3;
+
+inline V3<double> v3(const Vec3& v)
+{
+  return {v.x(), v.y(), v.z()};
+}
+
+template <typename A, typename B>
+SCANHEAD_INLINE auto dot(const V3<A>& a, const V3<B>& b)
+{
+  return (a.x * b.x + a.y * b.y) + a.z * b.z;
+}
+
+// Scalar/lane primitives. Masks: bool for double, LaneMask (all bits set = true) for Lanes.
+SCANHEAD_INLINE double absOf(double x)
+{
+  return std::abs(x);
+}
+SCANHEAD_INLINE Lanes absOf(Lanes x)
+{
+  const LaneMask sign_off = (LaneMask{} + 0x7fffffffffffffffLL);
+  return reinterpret_cast<Lanes>(reinterpret_cast<LaneMask>(x) & sign_off);
+}
+SCANHEAD_INLINE double sqrtOf(double x)
+{
+  return std::sqrt(x);
+}
+SCANHEAD_INLINE Lanes sqrtOf(Lanes x)
+{
+  // Correctly rounded like std::sqrt (IEEE 754 sqrt), lane by lane; NaN for negative lanes.
+  Lanes r;
+  for (int i = 0; i < kLanes; ++i)
+  {
+    r[i] = __builtin_sqrt(x[i] < 0.0 ? std::numeric_limits<double>::quiet_NaN() : x[i]);
+  }
+  return r;
+}
+SCANHEAD_INLINE double selectOf(bool m, double a, double b)
+{
+  return m ? a : b;
+}
+SCANHEAD_INLINE Lanes selectOf(LaneMask m, Lanes a, Lanes b)
+{
+  return m ? a : b;
+}
+
+/// Failure policy: the scalar trace throws at the first bad surface (as traceImpl does); the
+/// lane trace records which lanes failed and carries on (their results are then discarded).
+struct ThrowOnFailure
+{
+  void miss(bool bad, const char* surface) const
+  {
+    if (bad)
+    {
+      scanhead::miss(surface);
+    }
+  }
+  void totalReflection(bool bad, const char* surface) const
+  {
+    if (bad)
+    {
+      scanhead::totalReflection(surface);
+    }
+  }
+};
+
+struct RecordFailure
+{
+  LaneMask failed{};
+  void miss(LaneMask bad, const char*) { failed |= bad; }
+  void totalReflection(LaneMask bad, const char*) { failed |= bad; }
+};
+
+/// sin and cos of each lane with the scalar sinCos() polynomial (same operations); lanes with
+/// |x| > 0.25 through libm, as sinCos() does.
+SCANHEAD_INLINE void sinCos(Lanes x, Lanes& s, Lanes& c)
+{
+  const Lanes z = x * x;
+  s = x + x * z *
+              (-1.0 / 6 +
+               z * (1.0 / 120 +
+                    z * (-1.0 / 5040 +
+                         z * (1.0 / 362880 + z * (-1.0 / 39916800 +
+                                                  z * (1.0 / 6227020800.0 + z * (-1.0 / 1307674368000.0 +
+                                                                                 z * (1.0 / 355687428096000.0))))))));
+  c = 1.0 + z * (-0.5 + z * (1.0 / 24 +
+                             z * (-1.0 / 720 + z * (1.0 / 40320 +
+                                                    z * (-1.0 / 3628800 + z * (1.0 / 479001600.0 +
+                                                                               z * (-1.0 / 87178291200.0 +
+                                                                                    z * (1.0 / 20922789888000.0))))))));
+  for (int i = 0; i < kLanes; ++i)
+  {
+    if (!(std::abs(x[i]) <= 0.25))
+    {
+      double si;
+      double ci;
+      sinCos(x[i], si, ci);
+      s[i] = si;
+      c[i] = ci;
+    }
+  }
+}
+
+/// moveToPlane without derivatives: p += t d with t = ((P - p).n) / (d.n); returns d.n.
+template <typename T, typename G, typename F>
+SCANHEAD_INLINE T moveToPlaneK(V3<T>& p, const V3<T>& d, const V3<G>& point, const V3<G>& normal, F& fail,
+                               const char* surface)
+{
+  const T den = dot(d, normal);
+  fail.miss(!(absOf(den) > kMinCosine), surface);
+  const T inv_den = 1.0 / den;
+  const V3<T> gap{point.x - p.x, point.y - p.y, point.z - p.z};
+  const T t = dot(gap, normal) * inv_den;
+  fail.miss(!(t >= 0.0), surface);
+  p = V3<T>{p.x + t * d.x, p.y + t * d.y, p.z + t * d.z};
+  return den;
+}
+
+template <typename T, typename F>
+SCANHEAD_INLINE void reflectK(V3<T>& p, V3<T>& d, const V3<double>& n_c, const V3<double>& n_s, const V3<double>& n_0,
+                              const V3<double>& p_c, const V3<double>& p_s, const V3<double>& p_0, const T& angle,
+                              F& fail, const char* surface)
+{
+  T s;
+  T c;
+  sinCos(angle, s, c);
+  const V3<T> normal{c * n_c.x + s * n_s.x + n_0.x, c * n_c.y + s * n_s.y + n_0.y, c * n_c.z + s * n_s.z + n_0.z};
+  const V3<T> point{c * p_c.x + s * p_s.x + p_0.x, c * p_c.y + s * p_s.y + p_0.y, c * p_c.z + s * p_s.z + p_0.z};
+  const T den = moveToPlaneK(p, d, point, normal, fail, surface);
+  fail.miss(!(den < 0.0), surface);
+  const T twice = 2.0 * den;
+  d = V3<T>{d.x - twice * normal.x, d.y - twice * normal.y, d.z - twice * normal.z};
+}
+
+template <typename T, typename F>
+SCANHEAD_INLINE void crossPlateK(V3<T>& p, const V3<T>& d, const V3<double>& point, const V3<double>& normal,
+                                 double thickness, double eta, F& fail, const char* surface)
+{
+  moveToPlaneK(p, d, point, normal, fail, surface);
+  T cos_i = -dot(d, normal);
+  const T sign = selectOf(cos_i >= 0.0, T{} + 1.0, T{} - 1.0);
+  cos_i *= sign;
+  const V3<T> facing{sign * normal.x, sign * normal.y, sign * normal.z};
+  const T k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+  fail.totalReflection(!(k > 0.0), surface);
+  const T root = sqrtOf(k);
+  const T inv_root = 1.0 / root;
+  const T bend = eta * cos_i - root;
+  const V3<T> inside{eta * d.x + bend * facing.x, eta * d.y + bend * facing.y, eta * d.z + bend * facing.z};
+  const T length = thickness * inv_root;
+  p = V3<T>{p.x + length * inside.x, p.y + length * inside.y, p.z + length * inside.z};
+}
+
+/// The whole plain trace: spot (x, y) in the work-plane frame and the direction there.
+template <typename T, typename F>
+SCANHEAD_INLINE void traceKernel(const detail::TraceSurfaces& g, const T& q_x, const T& q_y, F& fail, T& spot_x,
+                                 T& spot_y, V3<T>& direction)
+{
+  V3<T> p{T{} + g.source_point.x, T{} + g.source_point.y, T{} + g.source_point.z};
+  V3<T> d{T{} + g.source_direction.x, T{} + g.source_direction.y, T{} + g.source_direction.z};
+  reflectK(p, d, g.mx_n_c, g.mx_n_s, g.mx_n_0, g.mx_p_c, g.mx_p_s, g.mx_p_0, q_x, fail, "mirror X");
+  reflectK(p, d, g.my_n_c, g.my_n_s, g.my_n_0, g.my_p_c, g.my_p_s, g.my_p_0, q_y, fail, "mirror Y");
+  crossPlateK(p, d, g.w1_point, g.w1_normal, g.thickness, g.eta, fail, "window 1");
+  crossPlateK(p, d, g.w2_point, g.w2_normal, g.thickness, g.eta, fail, "window 2");
+  moveToPlaneK(p, d, g.plane_point, g.plane_normal, fail, "work plane");
+  const V3<T> rel{p.x - g.plane_point.x, p.y - g.plane_point.y, p.z - g.plane_point.z};
+  spot_x = dot(g.rt0, rel);
+  spot_y = dot(g.rt1, rel);
+  direction = V3<T>{dot(g.rt0, d), dot(g.rt1, d), dot(g.rt2, d)};
+}
+
+/// traceKernel over \p n rays (n a multiple of kLanes), kLanes at a time; returns the number of
+/// rays that failed (their outputs are NaN). Cloned for AVX2 (same operations, so same bits).
+__attribute__((target_clones("avx2", "default"))) std::size_t traceLanes(const detail::TraceSurfaces& g, std::size_t n,
+                                                                         const double* q_x, const double* q_y,
+                                                                         double* spot_x, double* spot_y, double* dir_x,
+                                                                         double* dir_y, double* dir_z)
+{
+  std::size_t failures = 0;
+  const Lanes nan = Lanes{} + std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t k = 0; k < n; k += kLanes)
+  {
+    Lanes qx;
+    Lanes qy;
+    std::memcpy(&qx, q_x + k, sizeof(Lanes));
+    std::memcpy(&qy, q_y + k, sizeof(Lanes));
+    RecordFailure fail;
+    Lanes sx;
+    Lanes sy;
+    V3<Lanes> dir;
+    traceKernel(g, qx, qy, fail, sx, sy, dir);
+    sx = fail.failed ? nan : sx;
+    sy = fail.failed ? nan : sy;
+    std::memcpy(spot_x + k, &sx, sizeof(Lanes));
+    std::memcpy(spot_y + k, &sy, sizeof(Lanes));
+    if (dir_x != nullptr)
+    {
+      dir.x = fail.failed ? nan : dir.x;
+      dir.y = fail.failed ? nan : dir.y;
+      dir.z = fail.failed ? nan : dir.z;
+      std::memcpy(dir_x + k, &dir.x, sizeof(Lanes));
+      std::memcpy(dir_y + k, &dir.y, sizeof(Lanes));
+      std::memcpy(dir_z + k, &dir.z, sizeof(Lanes));
+    }
+    for (int i = 0; i < kLanes; ++i)
+    {
+      failures += fail.failed[i] != 0 ? 1 : 0;
+    }
+  }
+  return failures;
+}
 }  // namespace
 
 OpticalModel::OpticalModel(const OpticalGeometry& geometry, const OpticsConfig& config)
@@ -224,6 +477,26 @@ OpticalModel::OpticalModel(const OpticalGeometry& geometry, const OpticsConfig& 
   plane_normal_ = geometry_.work_plane.linear().col(2);
   plane_rotation_t_ = geometry_.work_plane.linear().transpose();
   eta_ = config_.n_gas / config_.n_window;
+
+  auto surfaces = std::make_shared<detail::TraceSurfaces>();
+  detail::TraceSurfaces& g = *surfaces;
+  g.source_point = v3(source_point_);
+  g.source_direction = v3(source_direction_);
+  const MirrorTerms& mx = mirror_x_terms_;
+  const MirrorTerms& my = mirror_y_terms_;
+  g.mx_n_c = v3(mx.n_c), g.mx_n_s = v3(mx.n_s), g.mx_n_0 = v3(mx.n_0);
+  g.mx_p_c = v3(mx.p_c), g.mx_p_s = v3(mx.p_s), g.mx_p_0 = v3(mx.p_0);
+  g.my_n_c = v3(my.n_c), g.my_n_s = v3(my.n_s), g.my_n_0 = v3(my.n_0);
+  g.my_p_c = v3(my.p_c), g.my_p_s = v3(my.p_s), g.my_p_0 = v3(my.p_0);
+  g.w1_point = v3(window_1_point_), g.w1_normal = v3(window_1_normal_);
+  g.w2_point = v3(window_2_point_), g.w2_normal = v3(window_2_normal_);
+  g.plane_point = v3(plane_point_), g.plane_normal = v3(plane_normal_);
+  g.rt0 = v3(plane_rotation_t_.row(0).transpose());
+  g.rt1 = v3(plane_rotation_t_.row(1).transpose());
+  g.rt2 = v3(plane_rotation_t_.row(2).transpose());
+  g.thickness = config_.window_thickness_m;
+  g.eta = eta_;
+  surfaces_ = std::move(surfaces);
 }
 
 template <bool kWithJacobian>
@@ -257,9 +530,54 @@ OpticalModel::Ray OpticalModel::traceImpl(const Eigen::Vector2d& q, Eigen::Matri
   return ray;
 }
 
-SCANHEAD_FLATTEN OpticalModel::Ray OpticalModel::trace(const Eigen::Vector2d& q) const
+OpticalModel::Ray OpticalModel::trace(const Eigen::Vector2d& q) const
 {
-  return traceImpl<false>(q, nullptr);
+  const ThrowOnFailure fail;
+  double spot_x;
+  double spot_y;
+  V3<double> d;
+  traceKernel(*surfaces_, q.x(), q.y(), fail, spot_x, spot_y, d);
+  Ray ray;
+  ray.spot = Eigen::Vector2d(spot_x, spot_y);
+  ray.direction = Eigen::Vector3d(d.x, d.y, d.z);  // unit: reflections and Snell keep |d| = 1
+  return ray;
+}
+
+std::size_t OpticalModel::traceBlock(std::size_t n, const double* q_x, const double* q_y, double* spot_x,
+                                     double* spot_y, double* dir_x, double* dir_y, double* dir_z) const
+{
+  const bool directions = dir_x != nullptr && dir_y != nullptr && dir_z != nullptr;
+  const std::size_t whole = n - n % kLanes;
+  std::size_t failures =
+      traceLanes(*surfaces_, whole, q_x, q_y, spot_x, spot_y, directions ? dir_x : nullptr, dir_y, dir_z);
+  if (whole < n)
+  {
+    // The last partial block, padded with copies of its first ray.
+    double in_x[kLanes];
+    double in_y[kLanes];
+    double out[5][kLanes];
+    for (int i = 0; i < kLanes; ++i)
+    {
+      const std::size_t k = whole + (whole + i < n ? i : 0);
+      in_x[i] = q_x[k];
+      in_y[i] = q_y[k];
+    }
+    traceLanes(*surfaces_, kLanes, in_x, in_y, out[0], out[1], out[2], out[3], out[4]);
+    for (std::size_t k = whole; k < n; ++k)
+    {
+      const std::size_t i = k - whole;
+      spot_x[k] = out[0][i];
+      spot_y[k] = out[1][i];
+      if (directions)
+      {
+        dir_x[k] = out[2][i];
+        dir_y[k] = out[3][i];
+        dir_z[k] = out[4][i];
+      }
+      failures += std::isnan(out[0][i]) ? 1 : 0;
+    }
+  }
+  return failures;
 }
 
 SCANHEAD_FLATTEN OpticalModel::Ray OpticalModel::traceWithJacobian(const Eigen::Vector2d& q,

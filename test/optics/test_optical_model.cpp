@@ -5,10 +5,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/optics/optical_model.hpp"
@@ -457,6 +460,107 @@ TEST(OpticsConfig, ValidateNamesTheFieldAndValue)
   EXPECT_NO_THROW(c.validate());
 }
 
+/// Bitwise equality of two doubles (NaN equal to NaN of the same bits).
+bool sameBits(double a, double b)
+{
+  return std::memcmp(&a, &b, sizeof(double)) == 0;
+}
+
+/// traceBlock against trace() ray by ray, bit for bit, over \p qs in blocks of every length 1..9
+/// (partial lane groups) and as one block.
+void expectBlockEqualsScalar(const OpticalModel& model, const std::vector<Eigen::Vector2d>& qs, const std::string& what)
+{
+  const std::size_t n = qs.size();
+  std::vector<double> qx(n), qy(n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    qx[k] = qs[k].x();
+    qy[k] = qs[k].y();
+  }
+  std::size_t mismatches = 0;
+  std::size_t scalar_failures = 0;
+  for (std::size_t length : {std::size_t{1}, std::size_t{3}, std::size_t{4}, std::size_t{7}, std::size_t{9}, n})
+  {
+    std::vector<double> sx(n), sy(n), dx(n), dy(n), dz(n);
+    std::size_t failures = 0;
+    for (std::size_t begin = 0; begin < n; begin += length)
+    {
+      const std::size_t m = std::min(length, n - begin);
+      failures +=
+          model.traceBlock(m, &qx[begin], &qy[begin], &sx[begin], &sy[begin], &dx[begin], &dy[begin], &dz[begin]);
+    }
+    scalar_failures = 0;
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      try
+      {
+        const OpticalModel::Ray ray = model.trace(qs[k]);
+        const bool same = sameBits(ray.spot.x(), sx[k]) && sameBits(ray.spot.y(), sy[k]) &&
+                          sameBits(ray.direction.x(), dx[k]) && sameBits(ray.direction.y(), dy[k]) &&
+                          sameBits(ray.direction.z(), dz[k]);
+        mismatches += same ? 0 : 1;
+      }
+      catch (const NumericalError&)
+      {
+        ++scalar_failures;
+        mismatches += std::isnan(sx[k]) && std::isnan(sy[k]) && std::isnan(dz[k]) ? 0 : 1;
+      }
+    }
+    EXPECT_EQ(failures, scalar_failures) << what << ", blocks of " << length;
+  }
+  EXPECT_EQ(mismatches, 0u) << what;
+}
+
+TEST(OpticalModel, TraceBlockIsBitIdenticalToTraceOverTheField)
+{
+  const std::string xml = readUrdf();
+  // The mechanical range ±0.1745 rad on a 41 × 41 grid, plus angles beyond the ±0.25 rad of the
+  // sin/cos polynomial (libm lanes) and seeded random angles.
+  std::vector<Eigen::Vector2d> qs;
+  for (int i = -20; i <= 20; ++i)
+  {
+    for (int k = -20; k <= 20; ++k)
+    {
+      qs.emplace_back(0.1745 * i / 20.0, 0.1745 * k / 20.0);
+    }
+  }
+  qs.emplace_back(0.26, 0.1);
+  qs.emplace_back(-0.1, -0.27);
+  qs.emplace_back(0.3, 0.3);
+  std::uint64_t state = 12345;
+  for (int r = 0; r < 1000; ++r)
+  {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    const double u = static_cast<double>(state >> 11) * 0x1.0p-53;
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    const double v = static_cast<double>(state >> 11) * 0x1.0p-53;
+    qs.emplace_back(0.35 * (u - 0.5), 0.35 * (v - 0.5));
+  }
+  expectBlockEqualsScalar(makeModel(xml), qs, "nominal");
+  expectBlockEqualsScalar(makeModel(defectiveUrdf(xml, 1.0)), qs, "OPT table 2 defects");
+  expectBlockEqualsScalar(makeModel(defectiveUrdf(xml, 50.0)), qs, "50 x OPT table 2 defects");
+}
+
+TEST(OpticalModel, TraceBlockMarksTheRaysThatMiss)
+{
+  const OpticalModel model = makeModel(readUrdf());
+  // Mirror X at 1.2 rad sends the beam away from mirror Y: trace() throws; the block gives NaN
+  // for that ray only and counts it, the rays around it keep their exact values.
+  std::vector<Eigen::Vector2d> qs = {{0.01, 0.02}, {1.2, 0.0}, {-0.05, 0.1}, {0.1, -0.1}, {1.2, 0.0}, {0.0, 0.0}};
+  EXPECT_THROW(model.trace(qs[1]), NumericalError);
+  std::vector<double> qx, qy;
+  for (const auto& q : qs)
+  {
+    qx.push_back(q.x());
+    qy.push_back(q.y());
+  }
+  std::vector<double> sx(qs.size()), sy(qs.size());
+  EXPECT_EQ(model.traceBlock(qs.size(), qx.data(), qy.data(), sx.data(), sy.data()), 2u);
+  EXPECT_TRUE(std::isnan(sx[1]) && std::isnan(sy[4]));
+  EXPECT_TRUE(sameBits(sx[5], model.spot(qs[5]).x()));
+  expectBlockEqualsScalar(model, qs, "with misses");
+}
+
 TEST(OpticalModel, TraceCostForInformation)
 {
   // The machine is shared: report the fastest of several blocks (ns per call).
@@ -497,6 +601,21 @@ TEST(OpticalModel, TraceCostForInformation)
         return q.x();
       },
       2000);
+  std::vector<double> bx(1000), by(1000), sx(1000), sy(1000), dx(1000), dy(1000), dz(1000);
+  for (int i = 0; i < 1000; ++i)
+  {
+    bx[i] = 1e-6 * i;
+    by[i] = -1e-6 * i;
+  }
+  const double block_ns =
+      fastest(
+          [&](int) {
+            model.traceBlock(1000, bx.data(), by.data(), sx.data(), sy.data(), dx.data(), dy.data(), dz.data());
+            return sx[999];
+          },
+          20) /
+      1000.0;
+  std::cout << "[ info ] traceBlock " << block_ns << " ns per ray\n";
   std::cout << "[ info ] trace " << trace_ns << " ns (" << 1e9 / trace_ns << " traces/s), jacobian " << jacobian_ns
             << " ns, warm-started inverse " << inverse_ns << " ns\n";
   EXPECT_TRUE(std::isfinite(sum));

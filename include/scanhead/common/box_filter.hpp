@@ -55,6 +55,12 @@ public:
     buffer_.col(head_ + taps_) = x;
   }
 
+  /// \brief push(x[i]), then average() into average[i] and derivative() into derivative[i], for
+  /// i = 0 .. count−1: the same numbers bit for bit, computed a chunk at a time (the tap sums
+  /// across the samples, which are independent, instead of one sample's taps after another: a
+  /// vector loop instead of a chain of dependent additions). \p derivative may be null.
+  void pushBlock(const Vector* x, std::size_t count, Vector* average, Vector* derivative);
+
   /// \brief y(t_n), the mean of x over [t_n − T, t_n].
   ///
   /// Evaluated as x_n + Σ w_k (x_{n−k} − x_n) (the taps sum to 1): a constant input comes out
@@ -102,6 +108,8 @@ private:
   std::vector<double> weights_;  ///< weights_[j] multiplies x_{n − (taps−1−j)}, scaled by 1/(m+f)
   Eigen::Matrix<double, N, Eigen::Dynamic> buffer_;  ///< 2·taps columns, each sample written twice
   std::size_t head_ = 0;
+  std::vector<double> block_history_;  ///< pushBlock: one channel's window history and new samples
+  std::vector<double> block_sums_;     ///< pushBlock: its tap sums
 };
 
 extern template class BoxFilter<1>;

@@ -97,6 +97,12 @@ public:
   /// \throws NumericalError if the point lies outside [−h, h]² (names the point)
   Eigen::Vector2d joints(const Eigen::Vector2d& spot_m, TableInterpolation interpolation) const;
 
+  /// \brief Bicubic joint angles (bit-identical to joints(spot_m, Bicubic)) and the bilinear
+  /// interpolation of the nodes' exact \f$\partial q/\partial x\f$ (= J⁻¹ there): a Newton
+  /// start and step matrix for the exact inverse (the NC's IGT).
+  /// \return false, leaving the outputs untouched, if the point lies outside [−h, h]² (no throw)
+  bool jointsAndInverseJacobian(const Eigen::Vector2d& spot_m, Eigen::Vector2d& q, Eigen::Matrix2d& dq_dx) const;
+
   int nodes() const { return nodes_; }
   double halfWidth() const { return half_width_m_; }
 

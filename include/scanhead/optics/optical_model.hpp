@@ -7,12 +7,19 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstddef>
+#include <memory>
 #include <string>
 
 #include "scanhead/optics/optics_config.hpp"
 
 namespace scanhead
 {
+namespace detail
+{
+struct TraceSurfaces;  ///< the trace's constant surfaces as plain numbers (optical_model.cpp)
+}
+
 /// \brief Poses, in the scanhead_base frame, of the frames the ray trace uses.
 ///
 /// Conventions (see urdf/scanhead.urdf): the source emits along the +x axis of source_defect;
@@ -76,6 +83,19 @@ public:
   Ray trace(const Eigen::Vector2d& q) const;
   Eigen::Vector2d spot(const Eigen::Vector2d& q) const { return trace(q).spot; }
 
+  /// \brief trace() of \p n rays at once, in structure-of-arrays form (the same operations in the
+  /// same order, 4 rays in the lanes of a vector; an AVX2 clone where the CPU has it, without FMA):
+  /// the results are bit-identical to trace() ray by ray.
+  /// \param[in]  n          number of rays
+  /// \param[in]  q_x, q_y   mechanical angles [rad], n each
+  /// \param[out] spot_x, spot_y  spots [m], work-plane frame, n each
+  /// \param[out] dir_x, dir_y, dir_z  unit beam directions at the plane, n each; all three null
+  ///             to skip them
+  /// \return the number of rays that failed (where trace() throws): their outputs are NaN
+  ///         (call trace() on one of them for the error). Does not throw.
+  std::size_t traceBlock(std::size_t n, const double* q_x, const double* q_y, double* spot_x, double* spot_y,
+                         double* dir_x = nullptr, double* dir_y = nullptr, double* dir_z = nullptr) const;
+
   /// \brief Jacobian d(spot)/dq [m/rad], exact (forward-mode derivatives propagated through
   /// every intersection, reflection and refraction of the ray trace; costs about 2 traces).
   Eigen::Matrix2d jacobian(const Eigen::Vector2d& q) const;
@@ -116,7 +136,8 @@ private:
   Eigen::Vector3d window_1_point_, window_1_normal_;  ///< first face of window 1 (base frame)
   Eigen::Vector3d window_2_point_, window_2_normal_;
   Eigen::Vector3d plane_point_, plane_normal_;
-  Eigen::Matrix3d plane_rotation_t_;  ///< base -> work-plane rotation
-  double eta_ = 1.0;                  ///< n_gas / n_window
+  Eigen::Matrix3d plane_rotation_t_;                       ///< base -> work-plane rotation
+  double eta_ = 1.0;                                       ///< n_gas / n_window
+  std::shared_ptr<const detail::TraceSurfaces> surfaces_;  ///< the same, for the plain trace kernel
 };
 }  // namespace scanhead
