@@ -264,17 +264,29 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
       gaussianSumRow(1, &one, &e, &centre, alpha_cross, q_cross, n, cross_.data());
       const double u0 = si.g.x() * x0 + si.g.y() * ry, du = si.g.x() * p, sa = si.sqrt_a;
       const ErfTable& erf = erfTable();
+      // u is monotonic along the row, so the saturated pixels (bracket exactly 2) form one run: fill the row as if
+      // saturated (a vector loop), then evaluate the bracket from both ends inwards until it saturates.
+      const double* cross = cross_.data();
       for (int k = 0; k < n; ++k)
+        w[k] = static_cast<float>(cross[k] * 2.0);
+      auto saturated = [&](double u) { return u > kErfSaturated && sa - u > kErfSaturated; };
+      auto bracket = [&](double u) {
+        return u < -kErfSaturated || u - sa > kErfSaturated ? 0.0 : erf(sa - u) + erf(u);
+      };
+      int k = 0;
+      for (; k < n; ++k)
       {
         const double u = u0 + k * du;
-        double bracket;
-        if (u > kErfSaturated && sa - u > kErfSaturated)
-          bracket = 2.0;
-        else if (u < -kErfSaturated || u - sa > kErfSaturated)
-          bracket = 0.0;
-        else
-          bracket = erf(sa - u) + erf(u);
-        w[k] = static_cast<float>(cross_[static_cast<std::size_t>(k)] * bracket);
+        if (saturated(u))
+          break;
+        w[k] = static_cast<float>(cross[k] * bracket(u));
+      }
+      for (int j = n - 1; j > k; --j)
+      {
+        const double u = u0 + j * du;
+        if (saturated(u))
+          break;
+        w[j] = static_cast<float>(cross[j] * bracket(u));
       }
     }
     Row r;
