@@ -127,6 +127,8 @@ void visitSettings(Config& c, F&& f)
   f("optics.newton_max_iterations", c.optics.newton_max_iterations);
   f("energy.spot_diameter_m", c.energy.spot_diameter_m);
   f("energy.pixel_m", c.energy.pixel_m);
+  f("energy.method", c.energy.method);
+  f("energy.stroke_tolerance_m", c.energy.stroke_tolerance_m);
   f("energy.max_substep_radii", c.energy.max_substep_radii);
   f("energy.truncation_radii", c.energy.truncation_radii);
   f("energy.map_margin_m", c.energy.map_margin_m);

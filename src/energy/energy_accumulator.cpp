@@ -1,87 +1,16 @@
 /// \file energy_accumulator.cpp
-/// \brief The Gaussian-spot accumulator on the sparse map (SPEC §5).
+/// \brief The Gaussian-spot accumulator on the sparse map (SPEC §5): the stream's bookkeeping, the method chosen.
 #include "scanhead/energy/energy_accumulator.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <cstring>
 #include <sstream>
 
+#include "deposit_checks.hpp"
 #include "scanhead/common/errors.hpp"
 
 namespace scanhead
 {
 namespace
 {
-constexpr double kMaxSubsteps = 1.0e8;       // a longer segment is garbage, not a path
-constexpr double kMaxStencilRadius = 1.0e4;  // pixels: a footprint this large is a configuration error
-
-/// \brief 1-D Gaussian weights g[k] = exp(-a·d_k²), d_k = d_centre + (k − H)·p, k = 0..n−1 (n > H).
-///
-/// Recurrence from the centre outwards (3 exps instead of 2H+1): with r_k = exp(-a(2 d_k p + p²)),
-/// g_{k+1} = g_k·r_k and r_{k+1} = r_k·q, q = exp(-2 a p²); mirrored to the left. Starting at the
-/// centre pixel (|d| ≤ p/2, g ≈ 1 for the circular spot; a sheared row of an oblique spot starts
-/// |shear·dy| ≤ sin²θ·R off its peak, still g ≥ 0.3 at 17° of incidence) keeps the relative error
-/// ~H·1e-16 and lets far weights underflow to 0 harmlessly.
-void gaussianWeights(double d_centre, double a, double p, double q, int half, int n, double* g)
-{
-  g[half] = std::exp(-a * d_centre * d_centre);
-  double r = std::exp(-a * (2.0 * d_centre * p + p * p));
-  for (int k = half; k + 1 < n; ++k)
-  {
-    g[k + 1] = g[k] * r;
-    r *= q;
-  }
-  double l = std::exp(-a * (-2.0 * d_centre * p + p * p));
-  for (int k = half; k > 0; --k)
-  {
-    g[k - 1] = g[k] * l;
-    l *= q;
-  }
-}
-
-/// \brief w[k] = p[k], then p[k] *= r[k], k < n (n a multiple of 4): one row of the oblique
-/// stencil and the power table for the next, in 16-byte vectors (GCC/Clang extensions, as axpyRow).
-inline void copyAndAdvance(float* w, float* p, const float* r, int n)
-{
-  int k = 0;
-#if defined(__GNUC__)
-  typedef float Vec4 __attribute__((vector_size(16)));
-  for (; k + 4 <= n; k += 4)
-  {
-    Vec4 pv, rv;
-    std::memcpy(&pv, p + k, sizeof(Vec4));
-    std::memcpy(&rv, r + k, sizeof(Vec4));
-    std::memcpy(w + k, &pv, sizeof(Vec4));
-    pv *= rv;
-    std::memcpy(p + k, &pv, sizeof(Vec4));
-  }
-#endif
-  for (; k < n; ++k)
-  {
-    w[k] = p[k];
-    p[k] *= r[k];
-  }
-}
-
-/// \brief Σ x[k], k < n (n a multiple of 4), in 8 float lanes combined in double: a fixed order
-/// (deterministic), short add chains; relative error ~1e-7 on a row of ≤ 1e4 weights in [0, 1e3],
-/// and the stencil is normalised by these very sums, so the deposit conserves the energy anyway.
-inline double sumRow(const float* x, int n)
-{
-  float lanes[8] = {};
-  int k = 0;
-  for (; k + 8 <= n; k += 8)
-    for (int l = 0; l < 8; ++l)
-      lanes[l] += x[k + l];
-  for (; k < n; ++k)
-    lanes[k % 8] += x[k];
-  double sum = 0.0;
-  for (const float lane : lanes)
-    sum += lane;
-  return sum;
-}
-
 const EnergyConfig& validated(const EnergyConfig& config)
 {
   config.validate();
@@ -92,11 +21,15 @@ const EnergyConfig& validated(const EnergyConfig& config)
 EnergyAccumulator::EnergyAccumulator(const EnergyConfig& config, const Eigen::Vector2d& min_corner,
                                      const Eigen::Vector2d& max_corner)
   : config_(validated(config))
+  , exact_(config.method == "exact")
   , map_(min_corner, max_corner, config.pixel_m, config.tile_cache_bytes, config.spill_dir)
+  , sampled_(config)
+  , merger_(config.stroke_tolerance_m, config.pixel_m)
+  , stroke_deposit_(config)
 {
   // The stencil of the nominal spot must be drawable (a larger one from defocus is checked per sample).
   const double rs = config_.truncation_radii * 0.5 * config_.spot_diameter_m / config_.pixel_m;
-  if (rs > kMaxStencilRadius)
+  if (rs > energy_detail::kMaxStencilRadius)
   {
     std::ostringstream msg;
     msg << "energy.pixel_m = " << config_.pixel_m << " m is too fine for the spot (stencil radius " << rs << " pixels)";
@@ -111,6 +44,9 @@ void EnergyAccumulator::reset()
   sequence_.reset();
   period_s_ = 0.0;
   outside_j_ = 0.0;
+  merger_.reset();
+  stroke_deposit_.resetCounters();
+  samples_ = strokes_ = 0;
 }
 
 void EnergyAccumulator::process(const SpotChunk& chunk)
@@ -127,9 +63,12 @@ void EnergyAccumulator::process(const SpotChunk& chunk)
     for (std::size_t k = admission.skip; k < chunk.samples.size(); ++k)
     {
       const SpotSample& s = chunk.samples[k];
-      if (has_pending_ && pending_.power_w > 0.0)
+      if (has_pending_)
       {
-        deposit(pending_, s.actual, pending_.power_w * period_s_);
+        if (pending_.power_w > 0.0)
+          deposit(pending_, s.actual, period_s_);
+        else if (exact_)
+          flushStroke();  // a stroke never runs through a sample without power
       }
       pending_ = s;
       period_s_ = chunk.period_s;
@@ -140,6 +79,8 @@ void EnergyAccumulator::process(const SpotChunk& chunk)
   {
     // The rest of the chunk is lost but already counted as taken: never join across it.
     has_pending_ = false;
+    if (exact_)
+      flushStroke();  // what was merged before the bad sample is deposited, as the sampled method deposits it
     throw;
   }
 }
@@ -148,194 +89,42 @@ void EnergyAccumulator::finish()
 {
   if (has_pending_ && pending_.power_w > 0.0)
   {
-    deposit(pending_, pending_.actual, pending_.power_w * period_s_);
+    deposit(pending_, pending_.actual, period_s_);
   }
   has_pending_ = false;
+  if (exact_)
+    flushStroke();
 }
 
-void EnergyAccumulator::deposit(const SpotSample& from_sample, const Eigen::Vector2d& to, double energy_j)
+void EnergyAccumulator::deposit(const SpotSample& from, const Eigen::Vector2d& to, double period_s)
 {
-  const Eigen::Vector2d& from = from_sample.actual;
-  const Eigen::Vector2d delta = to - from;
-  const double length = delta.norm();
-  if (!from.allFinite() || !std::isfinite(length))
+  ++samples_;
+  if (!exact_)
   {
-    std::ostringstream msg;
-    msg << "energy: non-finite spot position (" << from.x() << ", " << from.y() << ") -> (" << to.x() << ", " << to.y()
-        << ") m while the laser is on";
-    throw NumericalError(msg.str());
-  }
-  const SpotFootprint fp = spotFootprint(config_, from_sample.direction);
-  const double steps = std::max(1.0, std::ceil(length / (config_.max_substep_radii * fp.radius_m)));
-  if (steps > kMaxSubsteps)
-  {
-    std::ostringstream msg;
-    msg << "energy: spot moved " << length << " m in one sample with the laser on (" << steps
-        << " sub-steps): implausible";
-    throw NumericalError(msg.str());
-  }
-  const int m = static_cast<int>(steps);
-  const double e = energy_j / steps;
-  for (int s = 0; s < m; ++s)
-  {
-    const double f = (s + 0.5) / steps;
-    depositPoint(from.x() + f * delta.x(), from.y() + f * delta.y(), e, fp);
-  }
-}
-
-void EnergyAccumulator::depositPoint(double cx, double cy, double energy_j, const SpotFootprint& fp)
-{
-  const double p = map_.pixel();
-  const Eigen::Vector2d& o = map_.origin();
-  const std::int64_t width = map_.width();
-  const std::int64_t height = map_.height();
-  // Stencil radius in pixels: every pixel centre within R = truncation_radii·w_major of a point of
-  // the centre pixel lies within R/p + sqrt(1/2) of the centre pixel's centre.
-  // Rounded up to 1/8 pixel so that the row spans below are computed once per stencil size, not
-  // once per sub-step (an oblique spot's radius changes a little with every sample).
-  const double rs = std::ceil(8.0 * (config_.truncation_radii * fp.major_radius_m / p + std::sqrt(0.5))) / 8.0;
-  if (rs > kMaxStencilRadius)
-  {
-    std::ostringstream msg;
-    msg << "energy: the footprint (radius " << fp.major_radius_m << " m, defocus " << fp.defocus_m << " m) spans " << rs
-        << " pixels of energy.pixel_m = " << p << " m: raise energy.pixel_m";
-    throw ConfigError(msg.str());
-  }
-  const int h = static_cast<int>(std::floor(rs));
-  const int rows = 2 * h + 1;
-  const int cols = (rows + 3 + 3) / 4 * 4;  // room for the widened rows, a multiple of 4
-
-  // Pixel holding the centre (its centre is within p/2 of c on each axis).
-  const double fx = std::floor((cx - o.x()) / p);
-  const double fy = std::floor((cy - o.y()) / p);
-  if (fx - h + (cols - 1) < 0.0 || fx - h > static_cast<double>(width - 1) || fy + h < 0.0 ||
-      fy - h > static_cast<double>(height - 1))
-  {
-    outside_j_ += energy_j;  // whole stencil off the map
+    sampled_.deposit(map_, from, to, from.power_w * period_s, outside_j_);
     return;
   }
-  const std::int64_t i0 = static_cast<std::int64_t>(fx) - h;  // map column of stencil column 0
-  const std::int64_t j0 = static_cast<std::int64_t>(fy) - h;
-  const double dxc = o.x() + (static_cast<double>(i0 + h) + 0.5) * p - cx;  // centre pixel − c [m]
-  const double dyc = o.y() + (static_cast<double>(j0 + h) + 0.5) * p - cy;
+  // The checks of the sampled method, with its messages, at the same sample.
+  const double length = (to - from.actual).norm();
+  energy_detail::requireFiniteSegment(from.actual, to, length);
+  const SpotFootprint fp = spotFootprint(config_, from.direction);
+  energy_detail::substepsOf(length, config_, fp);
+  energy_detail::stencilRadius(config_, fp, map_.pixel());
+  Stroke done;
+  if (merger_.add(from.actual, to, from.power_w, period_s, fp, done))
+    drawStroke(done);
+}
 
-  gy_.resize(static_cast<std::size_t>(rows));
-  row_sum_.resize(static_cast<std::size_t>(rows));
-  gx_.resize(static_cast<std::size_t>(cols));
-  prefix_.resize(static_cast<std::size_t>(cols) + 1);
-  const bool separable = fp.qxy == 0.0;
-  gxf_.resize(static_cast<std::size_t>(separable ? cols : rows * cols));
-  // Row t covers the columns within rs of the centre, |di| ≤ floor(sqrt(rs² − dj²)), widened on the
-  // right to a multiple of 4 (any set of pixels holding the disc will do: the normalisation makes it
-  // conserve energy exactly).
-  if (rs != span_radius_)
-  {
-    span_radius_ = rs;
-    span_lo_.resize(static_cast<std::size_t>(rows));
-    span_hi_.resize(static_cast<std::size_t>(rows));
-    for (int t = 0; t < rows; ++t)
-    {
-      const double dj = t - h;
-      const int hw = static_cast<int>(std::floor(std::sqrt(std::max(0.0, rs * rs - dj * dj))));
-      span_lo_[static_cast<std::size_t>(t)] = h - hw;
-      span_hi_[static_cast<std::size_t>(t)] = h - hw + (2 * hw + 1 + 3) / 4 * 4 - 1;  // ≤ 2H + 3 < cols
-    }
-  }
-  auto row_span = [&](int t, int& lo, int& hi) {
-    lo = span_lo_[static_cast<std::size_t>(t)];
-    hi = span_hi_[static_cast<std::size_t>(t)];
-  };
-  double total = 0.0;
-  // With x_k = dxc + (k − H)p, y_t = dyc + (t − H)p: W = exp(−qxx x² − 2 qxy x y − qyy y²)
-  //   = exp(−qyy y_t²) · exp(−qxx x_k² − 2 qxy x_k dyc) · E_k^(t − H),  E_k = exp(−2 qxy p x_k):
-  // rows gy, columns gx (∝ a Gaussian centred at −(qxy/qxx)·dyc), and for the oblique spot a power
-  // table P_k = E_k^(t − H) updated row by row (one multiply a pixel, no exponential per row).
-  gaussianWeights(dyc, fp.qyy, p, std::exp(-2.0 * fp.qyy * p * p), h, rows, gy_.data());
-  gaussianWeights(dxc + fp.qxy / fp.qxx * dyc, fp.qxx, p, std::exp(-2.0 * fp.qxx * p * p), h, cols, gx_.data());
-  if (separable)
-  {
-    // One row of weights for the whole stencil, and its prefix sums for the rows' totals.
-    prefix_[0] = 0.0;
-    for (int k = 0; k < cols; ++k)
-    {
-      prefix_[static_cast<std::size_t>(k) + 1] =
-          prefix_[static_cast<std::size_t>(k)] + gx_[static_cast<std::size_t>(k)];
-      gxf_[static_cast<std::size_t>(k)] = static_cast<float>(gx_[static_cast<std::size_t>(k)]);
-    }
-    for (int t = 0; t < rows; ++t)
-    {
-      int lo = 0, hi = 0;
-      row_span(t, lo, hi);
-      row_sum_[static_cast<std::size_t>(t)] =
-          gy_[static_cast<std::size_t>(t)] *
-          (prefix_[static_cast<std::size_t>(hi) + 1] - prefix_[static_cast<std::size_t>(lo)]);
-      total += row_sum_[static_cast<std::size_t>(t)];
-    }
-  }
-  else
-  {
-    power_.resize(static_cast<std::size_t>(cols));
-    ratio_.resize(static_cast<std::size_t>(cols));
-    // E_k and E_k^(−H) are geometric in k: 4 exponentials, then products outwards from the centre.
-    const double e_step = std::exp(-2.0 * fp.qxy * p * p), p_step = std::exp(2.0 * fp.qxy * p * p * h);
-    double e_up = std::exp(-2.0 * fp.qxy * p * dxc), p_up = std::exp(2.0 * fp.qxy * p * h * dxc);
-    double e_down = e_up, p_down = p_up;
-    for (int up = h, down = h; up < cols; ++up, --down)
-    {
-      ratio_[static_cast<std::size_t>(up)] = static_cast<float>(e_up);
-      power_[static_cast<std::size_t>(up)] = static_cast<float>(p_up * gx_[static_cast<std::size_t>(up)]);
-      e_up *= e_step;
-      p_up *= p_step;
-      if (down >= 0)
-      {
-        ratio_[static_cast<std::size_t>(down)] = static_cast<float>(e_down);
-        power_[static_cast<std::size_t>(down)] = static_cast<float>(p_down * gx_[static_cast<std::size_t>(down)]);
-        e_down /= e_step;
-        p_down /= p_step;
-      }
-    }
-    for (int t = 0; t < rows; ++t)
-    {
-      int lo = 0, hi = 0;
-      row_span(t, lo, hi);
-      float* w = gxf_.data() + static_cast<std::size_t>(t) * cols;
-      copyAndAdvance(w, power_.data(), ratio_.data(), cols);
-      row_sum_[static_cast<std::size_t>(t)] = gy_[static_cast<std::size_t>(t)] * sumRow(w + lo, hi - lo + 1);
-      total += row_sum_[static_cast<std::size_t>(t)];
-    }
-  }
-  auto row_floats = [&](int t) { return gxf_.data() + (separable ? 0 : static_cast<std::size_t>(t) * cols); };
-  auto span_sum = [&](int t, int lo, int hi) {
-    if (separable)
-      return prefix_[static_cast<std::size_t>(hi) + 1] - prefix_[static_cast<std::size_t>(lo)];
-    double sum = 0.0;
-    for (int k = lo; k <= hi; ++k)
-      sum += row_floats(t)[k];
-    return sum;
-  };
-  const double scale = energy_j / (p * p * total);  // [J/m²] per unit weight
+void EnergyAccumulator::flushStroke()
+{
+  Stroke done;
+  if (merger_.flush(done))
+    drawStroke(done);
+}
 
-  double weight_in = 0.0;
-  for (int t = 0; t < rows; ++t)
-  {
-    const std::int64_t row = j0 + t;
-    if (row < 0 || row >= height)
-      continue;
-    int lo = 0, hi = 0;
-    row_span(t, lo, hi);
-    const int klo = static_cast<int>(std::max<std::int64_t>(lo, -i0));
-    const int khi = static_cast<int>(std::min<std::int64_t>(hi, width - 1 - i0));
-    if (klo > khi)
-      continue;
-    const float c = static_cast<float>(scale * gy_[static_cast<std::size_t>(t)]);
-    map_.addRow(row, i0 + klo, row_floats(t) + klo, c, khi - klo + 1);
-    weight_in += klo == lo && khi == hi ? row_sum_[static_cast<std::size_t>(t)]
-                                        : gy_[static_cast<std::size_t>(t)] * span_sum(t, klo, khi);
-  }
-  if (weight_in < total)
-  {
-    // The normalised weights of the stencil pixels that are off the map.
-    outside_j_ += energy_j * ((total - weight_in) / total);
-  }
+void EnergyAccumulator::drawStroke(const Stroke& stroke)
+{
+  ++strokes_;
+  stroke_deposit_.deposit(map_, stroke, outside_j_);
 }
 }  // namespace scanhead

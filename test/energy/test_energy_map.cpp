@@ -176,10 +176,12 @@ TEST(EnergyAccumulator, StraightTrackProfileRippleConservation)
 }
 
 // Ripple check of the sub-stepping itself: without sub-steps (max_substep_radii huge) the same
-// track at 6 m/s (60 µm = 1.7 w per sample) does ripple: the test above can fail.
+// track at 6 m/s (60 µm = 1.7 w per sample) does ripple: the test above can fail. (The sampled method's own
+// behaviour: exact has no sub-steps, test_stroke_deposit.cpp checks it does not ripple.)
 TEST(EnergyAccumulator, RippleDetectedWithoutSubsteps)
 {
   EnergyConfig cfg;
+  cfg.method = "sampled";
   cfg.max_substep_radii = 100.0;
   const double w = 0.5 * cfg.spot_diameter_m;
   const double p = cfg.pixel_m;

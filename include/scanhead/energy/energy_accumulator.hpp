@@ -4,31 +4,29 @@
 
 #include <Eigen/Core>
 #include <cstdint>
-#include <vector>
 
 #include "scanhead/common/chunk.hpp"
 #include "scanhead/common/chunk_sequencer.hpp"
 #include "scanhead/energy/energy_config.hpp"
+#include "scanhead/energy/sampled_deposit.hpp"
 #include "scanhead/energy/spot_footprint.hpp"
+#include "scanhead/energy/stroke_deposit.hpp"
+#include "scanhead/energy/stroke_merger.hpp"
 #include "scanhead/energy/tiled_energy_map.hpp"
 
 namespace scanhead
 {
 /// \brief E(p) = ∫ I(p − x_exp(t), t) dt on a TiledEnergyMap, I the footprint of spot_footprint.hpp.
 ///
-/// The energy of sample k, P_k·Ts, is spread evenly over m sub-steps at the midpoints of m equal
-/// parts of the segment from the actual spot k to k+1,
-/// \f[ m = \max\left(1, \left\lceil \frac{|x_{k+1} - x_k|}{\mathrm{max\_substep\_radii}\cdot w} \right\rceil\right),
-/// \f] (w the footprint's smaller radius), so a fast spot leaves no ripple; each sub-step adds \f[ E(p) \mathrel{+}=
-/// \frac{P_k T_s}{m}\,\frac{\sqrt{\det Q}}{\pi}\,e^{-(p - c)^\top Q (p - c)} \f] point-sampled at the pixel centres of
-/// a stencil: the disc of radius truncation_radii·w_major + 0.71·pixel around the pixel holding c, its rows widened on
-/// the right to whole groups of 4 pixels (for the vector loop), then scaled so the stencil's weights sum to exactly
-/// (P_k T_s/m)/pixel² (energy conserved to rounding whatever the pixel, the incidence and the defocus; the part on
-/// pixels off the map is added to energyOutsideMap()). The weights factor as rows × columns × a power table E_k^t (E_k
-/// = exp(−2 q_xy p x_k)) updated row by row, so no exponential is taken per row; for the circular spot (q_xy = 0) they
-/// are separable. The footprint follows the beam direction of the sample that carries the energy. The last sample stays
-/// pending until the next one arrives (so chunking does not change the result, bit for bit); finish() deposits it as a
-/// stationary dwell.
+/// The energy of sample k, P_k·Ts, is spread uniformly in time along the segment from the actual spot k to k+1, with
+/// the footprint of sample k (its beam direction). energy.method chooses how:
+/// - exact (default): the closed form of segment_integral.hpp; consecutive segments of one straight, constant-velocity,
+///   constant-power stroke are merged (stroke_merger.hpp) and drawn once (stroke_deposit.hpp);
+/// - sampled: point-sampled at sub-steps (sampled_deposit.hpp), the reference.
+/// Both truncate the footprint at truncation_radii·w_major and normalise the drawn weights to the energy (conserved
+/// to rounding; the share off the map is added to energyOutsideMap()). The last sample stays pending until the next
+/// one arrives, and with exact the pending stroke too, so chunking does not change the result, bit for bit; finish()
+/// deposits the last sample as a stationary dwell.
 ///
 /// Stream anomalies: samples whose global index was already seen (overlap, late chunk) are
 /// skipped; at a gap the pending sample is deposited as a dwell (its successor is unknown).
@@ -45,21 +43,29 @@ public:
   void finish();
   const TiledEnergyMap& map() const { return map_; }
   double energyOutsideMap() const { return outside_j_; }  ///< footprint energy that fell off the map [J]
+  /// \brief Samples that carried energy to the map (exact and sampled).
+  std::uint64_t samplesDeposited() const { return samples_; }
+  /// \brief exact: strokes drawn (samplesDeposited() / strokesDeposited() samples merged per stroke); sampled: 0.
+  std::uint64_t strokesDeposited() const { return strokes_; }
+  /// \brief exact: pixel weights computed (the method's cost); sampled: 0.
+  std::uint64_t pixelsDrawn() const { return stroke_deposit_.pixelsDrawn(); }
 
 private:
-  void deposit(const SpotSample& from, const Eigen::Vector2d& to, double energy_j);
-  void depositPoint(double cx, double cy, double energy_j, const SpotFootprint& fp);
+  /// \brief The segment of \p from (its energy over \p period_s) to \p to.
+  void deposit(const SpotSample& from, const Eigen::Vector2d& to, double period_s);
+  void drawStroke(const Stroke& stroke);
+  void flushStroke();
   EnergyConfig config_;
+  bool exact_ = true;
   TiledEnergyMap map_;
   bool has_pending_ = false;
   SpotSample pending_;
   double period_s_ = 0.0;    ///< period of the chunk that delivered the pending sample [s]
   ChunkSequencer sequence_;  ///< which samples are new, where the stream broke
   double outside_j_ = 0.0;
-  // Scratch (no allocation per sample).
-  std::vector<double> gx_, gy_, row_sum_, prefix_;
-  std::vector<float> gxf_, power_, ratio_;
-  double span_radius_ = -1.0;           ///< stencil radius [pixels] the row spans below are for
-  std::vector<int> span_lo_, span_hi_;  ///< stencil row t: local columns [lo, hi]
+  SampledDeposit sampled_;
+  StrokeMerger merger_;
+  StrokeDeposit stroke_deposit_;
+  std::uint64_t samples_ = 0, strokes_ = 0;
 };
 }  // namespace scanhead

@@ -11,8 +11,14 @@ struct EnergyConfig
 {
   double spot_diameter_m = 70.0e-6;  ///< 1/e² diameter 2w of the Gaussian spot [m] (THESIS §2.5)
   double pixel_m = 5.0e-6;           ///< map pixel pitch [m]
+  /// How each sample's energy reaches the map: "exact" (the footprint integrated in closed form along the segment
+  /// to the next sample, consecutive samples of one straight constant-velocity stroke merged: segment_integral.hpp,
+  /// stroke_merger.hpp) or "sampled" (point-sampled at sub-steps of max_substep_radii: sampled_deposit.hpp).
+  std::string method = "exact";
+  double stroke_tolerance_m = 1.0e-9;  ///< exact: samples within this of the ideal constant-velocity stroke merge
+                                       ///< (error ≤ 1.21·tol/w of the peak)
   double max_substep_radii =
-      0.5;  ///< sub-step length along the path, in spot radii w (ripple 2·exp(-π²/(2·0.5²)) = 5e-9)
+      0.5;  ///< sampled: sub-step length along the path, in spot radii w (ripple 2·exp(-π²/(2·0.5²)) = 5e-9)
   double truncation_radii =
       2.5;  ///< footprint drawn out to this many radii w (exp(-12.5) = 4e-6 of the energy beyond, renormalised)
   double map_margin_m = 0.5e-3;       ///< map extends the job's bounding box by this [m]
