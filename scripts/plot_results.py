@@ -1,14 +1,27 @@
 #!/usr/bin/env python3
 """Plots of a scanhead results folder: energy map, speed and contour error along the path.
 
-usage: plot_results.py RESULTS_DIR
+usage: plot_results.py [--plots all|summary] RESULTS_DIR
+       plot_results.py [--plots all|summary] --serve
 
-Reads trace.csv, job.yaml, metrics.yaml, energy_map.yaml and energy_map_16bit.png written by
-scanhead_run or the energy_accumulator node, and writes energy_map_plot.png, speed.png,
-contour_error.png, corner_zoom.png and quality.png (contour-error distributions by definition and
-kind, angle-error histograms, speed on the marks) next to them.
+Reads trace.csv, job.yaml, metrics.yaml, energy_map.yaml and energy_map.tiff (or
+energy_map_16bit.png) written by scanhead_run or the energy_accumulator node, and writes
+energy_map_plot.png, speed.png, contour_error.png, corner_zoom.png and quality.png
+(contour-error distributions by definition and kind, angle-error histograms, speed on the marks)
+next to them; --plots summary writes energy_map_plot.png and quality.png only.
+
+--serve: import matplotlib now, then wait for one folder path on stdin and plot it (nothing if
+stdin closes first). scanhead_run starts it so at the beginning of a run, so the imports overlap
+the chain and only the drawing is left once the results are written.
+
+Every figure is drawn from bounded data (the trace holds at most 20000 rows, the energy map is
+read as block maxima of at most 1000 pixels a side, the commanded path is drawn only up to 20000
+points) so the plots cost about the same whatever the job; the figures are drawn in two forked
+processes when two cores are available.
 """
+import io
 import os
+import re
 import sys
 
 import matplotlib
@@ -17,13 +30,16 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402
-from PIL import Image  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from quality_plots import quality_figure  # noqa: E402
 
 
 LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+PREVIEW_SIDE = 1000  # px: the energy plot shows block maxima of at most this many pixels a side
+MAX_PATH_POINTS = 20000  # commanded points drawn over the energy map at most
+SUMMARY = ("energy", "quality")
+ALL = ("energy", "quality", "speed", "contour_error", "corner")
 
 
 def load_metrics_head(path):
@@ -40,121 +56,213 @@ def load_metrics_head(path):
     return yaml.load("".join(lines), Loader=LOADER)
 
 
+class Job:
+    """The commanded polylines as flat arrays: points (N, 2) [m], polyline k's points are
+    points[start[k]:start[k + 1]]; is_mark, contour (role) and speed [m/s] per polyline."""
+
+    def __init__(self, points, counts, is_mark, contour, speed):
+        self.points = np.asarray(points, dtype=float).reshape(-1, 2)
+        self.start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+        self.is_mark = np.asarray(is_mark, dtype=bool)
+        self.contour = np.asarray(contour, dtype=bool)
+        self.speed = np.asarray(speed, dtype=float)
+
+    def select(self, mask):
+        """Points of the polylines in `mask` and their point counts."""
+        counts = np.diff(self.start)
+        keep = np.repeat(mask, counts)
+        return self.points[keep], counts[mask]
+
+    def with_gaps(self, mask=None):
+        """The selected polylines' points in mm as one array, NaN rows between them, so a whole
+        layer is one plot call."""
+        if mask is None:
+            mask = np.ones(len(self.is_mark), dtype=bool)
+        pts, counts = self.select(mask)
+        if len(counts) == 0:
+            return np.zeros((0, 2))
+        return np.insert(pts * 1e3, np.cumsum(counts), np.nan, axis=0)
+
+    def mark_segments(self):
+        """Commanded MARK segments as (start, end) arrays in m."""
+        pts, counts = self.select(self.is_mark)
+        if len(pts) == 0:
+            return np.zeros((0, 2)), np.zeros((0, 2))
+        first = np.ones(len(pts), dtype=bool)  # a point that starts a segment: not a polyline's last
+        first[np.cumsum(counts) - 1] = False
+        return pts[first], pts[np.flatnonzero(first) + 1]
+
+
+# The layout scanJobToYaml writes; any other job.yaml goes through the YAML parser.
+POLYLINE = re.compile(r"^  - type: (mark|jump)\n(?:    role: (\w+)\n)?    speed: (\S+)\n    power: \S+\n"
+                      r"(?:    dwell: \S+\n)?    points: \[(.*)\]$", re.M)
+
+
+def load_job(path):
+    with open(path) as f:
+        text = f.read()
+    found = POLYLINE.findall(text)
+    if len(found) == text.count("\n  - ") and all(p for *_, p in found):
+        counts = [p.count("[") for *_, p in found]
+        flat = ",".join(p for *_, p in found).replace("[", "").replace("]", "")
+        points = np.array(flat.split(","), dtype=float) if flat else np.zeros(0)
+        return Job(points, counts, [t == "mark" for t, *_ in found], [r == "contour" for _, r, *_ in found],
+                   [float(s) for _, _, s, _ in found])
+    lines = (yaml.load(text, Loader=LOADER) or {}).get("polylines") or []
+    return Job(np.concatenate([np.asarray(line["points"], dtype=float).ravel() for line in lines] or [[]]),
+               [len(line["points"]) for line in lines], [line["type"] == "mark" for line in lines],
+               [line.get("role") == "contour" for line in lines], [line["speed"] for line in lines])
+
+
 def load(folder):
-    trace = np.genfromtxt(os.path.join(folder, "trace.csv"), delimiter=",", names=True)
-    with open(os.path.join(folder, "job.yaml")) as f:
-        job = yaml.load(f, Loader=LOADER)
+    trace = np.loadtxt(os.path.join(folder, "trace.csv"), delimiter=",", skiprows=1, ndmin=2)
+    with open(os.path.join(folder, "trace.csv")) as f:
+        names = f.readline().strip().split(",")
+    trace = {name: trace[:, i] for i, name in enumerate(names)}
+    job = load_job(os.path.join(folder, "job.yaml"))
     metrics = load_metrics_head(os.path.join(folder, "metrics.yaml"))
     with open(os.path.join(folder, "energy_map.yaml")) as f:
         energy = yaml.load(f, Loader=LOADER)
     return trace, job, metrics, energy
 
 
-def polylines_with_gaps(job, kind=None):
-    """The polylines' points (all, or those of type `kind`) in mm as one array, NaN rows between
-    them, so a whole layer is one plot call."""
-    parts = []
-    for line in job["polylines"]:
-        if kind is None or line["type"] == kind:
-            parts.append(np.asarray(line["points"], dtype=float) * 1e3)
-            parts.append(np.full((1, 2), np.nan))
-    return np.vstack(parts) if parts else np.zeros((0, 2))
+def block_max(image, step):
+    """Maxima of step x step blocks (the last row and column of blocks may be smaller)."""
+    if step <= 1:
+        return np.asarray(image, dtype=float)
+    rows = np.maximum.reduceat(image, np.arange(0, image.shape[0], step), axis=0)
+    return np.maximum.reduceat(rows, np.arange(0, image.shape[1], step), axis=1).astype(float)
 
 
-def mark_segments(job):
-    """Commanded MARK segments as (start, end) arrays in m."""
-    starts, ends = [], []
-    for line in job["polylines"]:
-        if line["type"] != "mark":
-            continue
-        pts = np.asarray(line["points"], dtype=float)
-        starts.append(pts[:-1])
-        ends.append(pts[1:])
-    if not starts:
-        return np.zeros((0, 2)), np.zeros((0, 2))
-    return np.vstack(starts), np.vstack(ends)
+def energy_preview(folder, energy):
+    """The energy map [J/mm²], row 0 = top, as block maxima of at most PREVIEW_SIDE pixels a side:
+    read from the float TIFF (its pixels are the file's last width x height x 4 bytes), else from
+    the 16-bit PNG."""
+    width, height = energy["width"], energy["height"]
+    step = max(1, -(-max(width, height) // PREVIEW_SIDE))
+    tiff = os.path.join(folder, "energy_map.tiff")
+    if os.path.exists(tiff) and os.path.getsize(tiff) > 4 * width * height:
+        pixels = np.memmap(tiff, dtype="<f4", mode="r", offset=os.path.getsize(tiff) - 4 * width * height,
+                           shape=(height, width))
+        return block_max(pixels, step) * 1e-6
+    from PIL import Image
+    image = np.asarray(Image.open(os.path.join(folder, "energy_map_16bit.png")))
+    return block_max(image, step) / 65535.0 * energy["scale_max_jpm2"] * 1e-6
 
 
-def distance_to_path(points, starts, ends, block=256, reach=1e-3):
-    """Distance from each point to the nearest commanded segment.
-
-    Points go in blocks of consecutive trace rows (a small area); each block is compared with the
-    segments whose box comes within `reach` of the block's box only (all segments if none does),
-    so a 300-square layer takes seconds, not minutes. A distance above `reach` may then be an
-    over-estimate, which the plots do not need.
-    """
-    if len(starts) == 0:
-        return np.full(len(points), np.nan)
-    out = np.empty(len(points))
-    lo_seg = np.minimum(starts, ends)
-    hi_seg = np.maximum(starts, ends)
-    for i in range(0, len(points), block):
-        p = points[i:i + block]
-        lo = np.nanmin(p, axis=0) - reach
-        hi = np.nanmax(p, axis=0) + reach
-        near = np.all((hi_seg >= lo) & (lo_seg <= hi), axis=1)
-        if not near.any():
-            near[:] = True
-        a, b = starts[near], ends[near]
-        d = b - a
-        length2 = np.maximum((d * d).sum(axis=1), 1e-300)
-        q = p[:, None, :]
-        t = np.clip(((q - a) * d).sum(axis=2) / length2, 0.0, 1.0)
-        nearest = a + t[..., None] * d
-        out[i:i + block] = np.sqrt(((q - nearest) ** 2).sum(axis=2)).min(axis=1)
-    return out
+def new_figure(size, left=0.1, right=0.95, bottom=0.12, top=0.9):
+    """A figure with fixed margins: one draw when saved (bbox_inches="tight" draws twice)."""
+    fig, ax = plt.subplots(figsize=size)
+    fig.subplots_adjust(left=left, right=right, bottom=bottom, top=top)
+    return fig, ax
 
 
 def plot_energy(folder, job, energy):
-    image = np.asarray(Image.open(os.path.join(folder, "energy_map_16bit.png")))
-    step = max(1, int(np.ceil(np.sqrt(image.size / 4e6))))  # a figure shows no more than ~4 Mpixels
-    image = image[::step, ::step].astype(float)
-    density = image / 65535.0 * energy["scale_max_jpm2"] * 1e-6  # J/mm²
+    density = energy_preview(folder, energy)
     x0, y0 = energy["origin_m"]
     pixel = energy["pixel_m"]
     extent = [x0 * 1e3, (x0 + pixel * energy["width"]) * 1e3, y0 * 1e3, (y0 + pixel * energy["height"]) * 1e3]
-    fig, ax = plt.subplots(figsize=(8, 6))
-    shown = ax.imshow(density, origin="upper", extent=extent, cmap="inferno")  # row 0 = top (+y up)
-    for kind, style in (("mark", "-"), ("jump", "--")):
-        pts = polylines_with_gaps(job, kind)
-        ax.plot(pts[:, 0], pts[:, 1], style, color="cyan", lw=0.6)
+    fig, ax = new_figure((8, 6), left=0.1, right=0.98, bottom=0.09, top=0.94)
+    shown = ax.imshow(density, origin="upper", extent=extent, cmap="inferno", interpolation="nearest")
+    # The commanded path over the map while it stays readable: everything, else the contours only.
+    title = "Deposited energy (commanded path in cyan)"
+    if len(job.points) > MAX_PATH_POINTS:
+        title = "Deposited energy (contours in cyan)"
+        if np.diff(job.start)[job.contour].sum() > MAX_PATH_POINTS or not job.contour.any():
+            title = "Deposited energy"
+    if title.endswith("path in cyan)"):
+        for mask, style in ((job.is_mark, "-"), (~job.is_mark, "--")):
+            pts = job.with_gaps(mask)
+            ax.plot(pts[:, 0], pts[:, 1], style, color="cyan", lw=0.6)
+    elif title.endswith("contours in cyan)"):
+        pts = job.with_gaps(job.contour)
+        ax.plot(pts[:, 0], pts[:, 1], "-", color="cyan", lw=0.6)
     fig.colorbar(shown, ax=ax, label="energy density [J/mm²]")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
-    ax.set_title("Deposited energy (commanded path in cyan)")
-    fig.savefig(os.path.join(folder, "energy_map_plot.png"), dpi=120, bbox_inches="tight")
+    ax.set_title(title)
+    fig.savefig(os.path.join(folder, "energy_map_plot.png"), dpi=120)
     plt.close(fig)
 
 
 def plot_speed(folder, trace, job):
-    fig, ax = plt.subplots(figsize=(9, 4))
+    fig, ax = new_figure((9, 4))
     t = trace["t_s"] * 1e3
     ax.plot(t, trace["setpoint_speed_mps"] * 1e3, label="setpoint (Q_filt2)")
     ax.plot(t, trace["actual_speed_mps"] * 1e3, label="actual (after servo)")
-    for speed in sorted({line["speed"] for line in job["polylines"] if line["type"] == "mark"}):
+    for speed in np.unique(job.speed[job.is_mark]):
         ax.axhline(speed * 1e3, color="grey", ls=":", lw=0.8)
     ax.set_xlabel("time [ms]")
     ax.set_ylabel("spot speed [mm/s]")
     ax.legend()
     ax.grid(alpha=0.3)
-    fig.savefig(os.path.join(folder, "speed.png"), dpi=120, bbox_inches="tight")
+    fig.savefig(os.path.join(folder, "speed.png"), dpi=120)
     plt.close(fig)
 
 
+def distance_to_path(points, starts, ends, reach=1e-3):
+    """Distance from each point to the nearest commanded segment (NaN farther than `reach`).
+
+    The segments are binned on a grid of `reach` cells (each into the cells its box, grown by
+    `reach`, covers), and each point is compared with the segments of its own cell only, so the
+    cost grows with the points and the segments near them, not with their product.
+    """
+    out = np.full(len(points), np.nan)
+    if len(starts) == 0 or len(points) == 0:
+        return out
+    origin = np.minimum(starts.min(axis=0), ends.min(axis=0)) - reach
+    lo = np.floor((np.minimum(starts, ends) - reach - origin) / reach).astype(np.int64)
+    hi = np.floor((np.maximum(starts, ends) + reach - origin) / reach).astype(np.int64)
+    span = hi - lo + 1
+    columns = int(hi[:, 0].max()) + 1
+    # (cell, segment) pairs, one per cell of each segment's box.
+    per_segment = span[:, 0] * span[:, 1]
+    if per_segment.sum() > 2e7:  # a huge box per segment: distances are not worth that memory
+        return out
+    segment = np.repeat(np.arange(len(starts)), per_segment)
+    k = np.arange(len(segment)) - np.repeat(np.cumsum(per_segment) - per_segment, per_segment)
+    cx = lo[segment, 0] + k % span[segment, 0]
+    cy = lo[segment, 1] + k // span[segment, 0]
+    cell = cy * columns + cx
+    order = np.argsort(cell, kind="stable")
+    cell, segment = cell[order], segment[order]
+    # The points' cells and their candidate segments.
+    pc = np.floor((points - origin) / reach).astype(np.int64)
+    inside = np.all(np.isfinite(points), axis=1) & (pc[:, 0] >= 0) & (pc[:, 0] < columns) & (pc[:, 1] >= 0)
+    index = np.flatnonzero(inside)
+    point_cell = pc[index, 1] * columns + pc[index, 0]
+    first = np.searchsorted(cell, point_cell, side="left")
+    count = np.searchsorted(cell, point_cell, side="right") - first
+    has = count > 0
+    index, first, count = index[has], first[has], count[has]
+    if len(index) == 0:
+        return out
+    pair_point = np.repeat(index, count)
+    pair_segment = segment[np.repeat(first, count) + np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)]
+    a, b, p = starts[pair_segment], ends[pair_segment], points[pair_point]
+    d = b - a
+    length2 = np.maximum((d * d).sum(axis=1), 1e-300)
+    t = np.clip(((p - a) * d).sum(axis=1) / length2, 0.0, 1.0)
+    dist = np.hypot(*(p - a - t[:, None] * d).T)
+    out[index] = np.minimum.reduceat(dist, np.cumsum(count) - count)
+    out[out > reach] = np.nan  # farther: a nearer segment may lie in another cell
+    return out
+
+
 def plot_contour_error(folder, trace, job):
-    starts, ends = mark_segments(job)
+    starts, ends = job.mark_segments()
     on = trace["power_w"] > 0
-    fig, ax = plt.subplots(figsize=(9, 4))
-    t = trace["t_s"] * 1e3
-    for name, label in (("setpoint", "setpoint"), ("actual", "actual")):
-        pts = np.column_stack([trace[name + "_x_m"], trace[name + "_y_m"]])
+    fig, ax = new_figure((9, 4))
+    t = trace["t_s"][on] * 1e3
+    for name in ("setpoint", "actual"):
+        pts = np.column_stack([trace[name + "_x_m"][on], trace[name + "_y_m"][on]])
         err = distance_to_path(pts, starts, ends) * 1e6
-        ax.plot(t[on], err[on], ".", ms=2, label=label + " (laser on)")
+        ax.plot(t, err, ".", ms=2, label=name + " (laser on)")
     ax.set_xlabel("time [ms]")
     ax.set_ylabel("distance to the commanded path [µm]")
     ax.legend()
     ax.grid(alpha=0.3)
-    fig.savefig(os.path.join(folder, "contour_error.png"), dpi=120, bbox_inches="tight")
+    fig.savefig(os.path.join(folder, "contour_error.png"), dpi=120)
     plt.close(fig)
 
 
@@ -164,8 +272,13 @@ def plot_corner(folder, trace, job, metrics):
         return
     c = np.asarray(corners[0]["point_m"]) * 1e3
     half = max(0.15, 3 * corners[0]["theory"]["max_contour_error_m"] * 1e3)
-    fig, ax = plt.subplots(figsize=(6, 6))
-    pts = polylines_with_gaps(job)
+    fig, ax = new_figure((6, 6), left=0.14, right=0.95, bottom=0.1, top=0.93)
+    # The commanded path near the corner only (a whole layer has ~1e6 points).
+    near = np.all(np.abs(job.points * 1e3 - c) <= 4 * half, axis=1)
+    polyline = np.repeat(np.arange(len(job.is_mark)), np.diff(job.start))
+    mask = np.zeros(len(job.is_mark), dtype=bool)
+    mask[np.unique(polyline[near])] = True
+    pts = job.with_gaps(mask)
     ax.plot(pts[:, 0], pts[:, 1], "k-", lw=1, label="commanded")
     ax.plot(trace["setpoint_x_m"] * 1e3, trace["setpoint_y_m"] * 1e3, label="setpoint (Q_filt2)")
     ax.plot(trace["actual_x_m"] * 1e3, trace["actual_y_m"] * 1e3, label="actual")
@@ -175,26 +288,90 @@ def plot_corner(folder, trace, job, metrics):
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.set_title("First corner: %.2f° at %.0f mm/s" % (corners[0]["angle_deg"], corners[0]["programmed_speed_mps"] * 1e3))
-    handles, labels = ax.get_legend_handles_labels()
-    unique = dict(zip(labels, handles))
-    ax.legend(unique.values(), unique.keys())
-    fig.savefig(os.path.join(folder, "corner_zoom.png"), dpi=120, bbox_inches="tight")
+    ax.legend()
+    fig.savefig(os.path.join(folder, "corner_zoom.png"), dpi=120)
     plt.close(fig)
 
 
-def main():
-    if len(sys.argv) != 2:
-        sys.exit(__doc__)
-    folder = sys.argv[1]
-    trace, job, metrics, energy = load(folder)
-    plot_energy(folder, job, energy)
-    plot_speed(folder, trace, job)
-    plot_contour_error(folder, trace, job)
-    plot_corner(folder, trace, job, metrics)
+def plot_quality(folder, metrics):
     fig = quality_figure(plt, [(metrics.get("job", "run"), metrics)])
-    fig.savefig(os.path.join(folder, "quality.png"), dpi=110, bbox_inches="tight")
+    fig.savefig(os.path.join(folder, "quality.png"), dpi=110)
     plt.close(fig)
+
+
+def draw(folder, which, data):
+    trace, job, metrics, energy = data
+    for name in which:
+        if name == "energy":
+            plot_energy(folder, job, energy)
+        elif name == "quality":
+            plot_quality(folder, metrics)
+        elif name == "speed":
+            plot_speed(folder, trace, job)
+        elif name == "contour_error":
+            plot_contour_error(folder, trace, job)
+        elif name == "corner":
+            plot_corner(folder, trace, job, metrics)
+
+
+def plot_folder(folder, plots="all"):
+    """Loads the folder's data once, then draws the figures, in two forked processes (the energy
+    map and the quality panel first, one each) when the machine has two cores."""
+    which = SUMMARY if plots == "summary" else ALL
+    data = load(folder)
+    if (os.cpu_count() or 1) < 2 or not hasattr(os, "fork"):
+        draw(folder, which, data)
+        return
+    groups = (which[0::2], which[1::2])
+    pid = os.fork()
+    if pid == 0:
+        code = 1
+        try:
+            draw(folder, groups[1], data)
+            code = 0
+        finally:
+            os._exit(code)
+    try:
+        draw(folder, groups[0], data)
+    finally:
+        _, status = os.waitpid(pid, 0)
+    if status != 0:
+        sys.exit("plot_results.py: drawing %s failed" % ", ".join(groups[1]))
+
+
+def warm_up():
+    """Loads what the first figure of a process loads (fonts, the Agg canvas, the colour maps), so
+    a served run leaves only the drawing."""
+    fig, ax = plt.subplots(figsize=(2, 2))
+    ax.imshow(np.zeros((4, 4)), cmap="inferno")
+    ax.plot([0, 1], [0, 1], ".")
+    ax.set_title("µm²")
+    fig.colorbar(ax.images[0], ax=ax, label="J/mm²")
+    fig.savefig(io.BytesIO(), dpi=20)
+    plt.close(fig)
+
+
+def main(argv):
+    plots, serve, folders = "all", False, []
+    args = list(argv)
+    while args:
+        a = args.pop(0)
+        if a == "--plots" and args:
+            plots = args.pop(0)
+        elif a == "--serve":
+            serve = True
+        else:
+            folders.append(a)
+    if plots not in ("all", "summary") or len(folders) != (0 if serve else 1):
+        sys.exit(__doc__)
+    if serve:
+        warm_up()
+        line = sys.stdin.readline().rstrip("\n")
+        if not line:
+            return  # the run ended without results
+        folders = [line]
+    plot_folder(folders[0], plots)
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

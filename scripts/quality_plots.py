@@ -84,5 +84,6 @@ def quality_figure(plt, runs):
                 f"{100.0 * contour[f'share_under_{u}um']:.2f} %" for u in (10, 20, 30)))
         lines.append(f"  peak {m.get('peak_energy_density_jpm2', 0) * 1e-6:.3g} J/mm^2")
     ax.text(0.0, 1.0, "\n".join(lines), va="top", family="monospace", fontsize=9)
-    fig.tight_layout()
+    # Fixed margins, not tight_layout(): that draws the whole figure once more to measure it.
+    fig.subplots_adjust(left=0.05, right=0.98, bottom=0.07, top=0.95, wspace=0.25, hspace=0.32)
     return fig

@@ -12,6 +12,7 @@
 #include "scanhead/metrics/metrics_report.hpp"
 #include "scanhead/report/energy_exports.hpp"
 #include "scanhead/report/job_picture.hpp"
+#include "scanhead/report/task_pool.hpp"
 #include "scanhead/report/thermal_images.hpp"
 
 namespace scanhead
@@ -45,15 +46,22 @@ void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, 
   {
     fs::create_directory(tmp);
     writeTextFile(tmp / kResultsMarker, "written by scanhead\n");
-    writeTextFile(tmp / "metrics.yaml", metricsToYaml(metrics));
-    writeTextFile(tmp / "config.yaml", chainConfigToYaml(config));
-    writeTextFile(tmp / "job.yaml", scanJobToYaml(job));
-    writeTextFile(tmp / "job_stats.yaml", jobStatsYaml(computeJobStats(job, config.nc.implicit_jump_speed_mps)));
-    writeJobPicture((tmp / "job.png").string(), job, 1600);
-    writeTextFile(tmp / "trace.csv", energy.trace().csv(config.nc.period_s));
-    writeEnergyExports(tmp.string(), energy.map(), job, config.energy);
+    // Every file is independent of the others: written side by side, the longest first (on the
+    // THESIS layer: the energy overview, then metrics.yaml and job.png); each file's bytes are
+    // those of a serial write.
+    TaskPool pool;
+    addEnergyExportTasks(pool, tmp.string(), energy.map(), job, config.energy);
+    pool.add([&] { writeTextFile(tmp / "metrics.yaml", metricsToYaml(metrics)); });
+    pool.add([&] { writeJobPicture((tmp / "job.png").string(), job, 1600); });
+    pool.add([&] { writeTextFile(tmp / "job.yaml", scanJobToYaml(job)); });
+    pool.add([&] { writeTextFile(tmp / "trace.csv", energy.trace().csv(config.nc.period_s)); });
+    pool.add([&] {
+      writeTextFile(tmp / "config.yaml", chainConfigToYaml(config));
+      writeTextFile(tmp / "job_stats.yaml", jobStatsYaml(computeJobStats(job, config.nc.implicit_jump_speed_mps)));
+    });
     if (energy.thermal() != nullptr)
-      writeThermalImages(tmp.string(), *energy.thermal());
+      pool.add([&] { writeThermalImages(tmp.string(), *energy.thermal()); });
+    pool.run();
     if (finish)
       finish(tmp.string());
     if (fs::exists(dir))
