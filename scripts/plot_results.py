@@ -200,58 +200,60 @@ def plot_speed(folder, trace, job):
     plt.close(fig)
 
 
-def distance_to_path(points, starts, ends, reach=1e-3):
+def distance_to_path(points, starts, ends, reach=2e-4, max_pieces=300000):
     """Distance from each point to the nearest commanded segment (NaN farther than `reach`).
 
-    The segments are binned on a grid of `reach` cells (each into the cells its box, grown by
-    `reach`, covers), and each point is compared with the segments of its own cell only, so the
-    cost grows with the points and the segments near them, not with their product.
+    The segments are cut into pieces no longer than a cell (2·reach, more on a long path: at most
+    about `max_pieces` pieces), binned by their midpoints on a grid of such cells. A piece within
+    `reach` of a point has its midpoint within reach + cell/2 of it, so each point is compared
+    with the pieces of the cells around its own only: the cost grows with the points and the path
+    near them, not with their product.
     """
-    out = np.full(len(points), np.nan)
+    out = np.full(len(points), np.inf)
     if len(starts) == 0 or len(points) == 0:
-        return out
-    origin = np.minimum(starts.min(axis=0), ends.min(axis=0)) - reach
-    lo = np.floor((np.minimum(starts, ends) - reach - origin) / reach).astype(np.int64)
-    hi = np.floor((np.maximum(starts, ends) + reach - origin) / reach).astype(np.int64)
-    span = hi - lo + 1
-    columns = int(hi[:, 0].max()) + 1
-    # (cell, segment) pairs, one per cell of each segment's box.
-    per_segment = span[:, 0] * span[:, 1]
-    if per_segment.sum() > 2e7:  # a huge box per segment: distances are not worth that memory
-        return out
-    segment = np.repeat(np.arange(len(starts)), per_segment)
-    k = np.arange(len(segment)) - np.repeat(np.cumsum(per_segment) - per_segment, per_segment)
-    cx = lo[segment, 0] + k % span[segment, 0]
-    cy = lo[segment, 1] + k // span[segment, 0]
-    cell = cy * columns + cx
-    order = np.argsort(cell, kind="stable")
-    cell, segment = cell[order], segment[order]
-    # The points' cells and their candidate segments.
-    pc = np.floor((points - origin) / reach).astype(np.int64)
-    inside = np.all(np.isfinite(points), axis=1) & (pc[:, 0] >= 0) & (pc[:, 0] < columns) & (pc[:, 1] >= 0)
-    index = np.flatnonzero(inside)
-    point_cell = pc[index, 1] * columns + pc[index, 0]
-    first = np.searchsorted(cell, point_cell, side="left")
-    count = np.searchsorted(cell, point_cell, side="right") - first
-    has = count > 0
-    index, first, count = index[has], first[has], count[has]
-    if len(index) == 0:
-        return out
-    pair_point = np.repeat(index, count)
-    pair_segment = segment[np.repeat(first, count) + np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)]
-    a, b, p = starts[pair_segment], ends[pair_segment], points[pair_point]
-    d = b - a
-    length2 = np.maximum((d * d).sum(axis=1), 1e-300)
-    t = np.clip(((p - a) * d).sum(axis=1) / length2, 0.0, 1.0)
-    dist = np.hypot(*(p - a - t[:, None] * d).T)
-    out[index] = np.minimum.reduceat(dist, np.cumsum(count) - count)
-    out[out > reach] = np.nan  # farther: a nearer segment may lie in another cell
+        return np.full(len(points), np.nan)
+    d = ends - starts
+    length = np.hypot(d[:, 0], d[:, 1])
+    size = max(2 * reach, length.sum() / max_pieces)
+    near = int(np.ceil((reach + 0.5 * size) / size))  # cells to look at on each side
+    pieces = np.maximum(1, np.ceil(length / size)).astype(np.int64)
+    owner = np.repeat(np.arange(len(starts)), pieces)
+    k = np.arange(len(owner)) - np.repeat(np.cumsum(pieces) - pieces, pieces)
+    step = d[owner] / pieces[owner][:, None]
+    a = starts[owner] + step * k[:, None]
+    finite = np.flatnonzero(np.all(np.isfinite(points), axis=1))
+    p_all = points[finite]
+    origin = np.minimum(a.min(axis=0), p_all.min(axis=0, initial=np.inf)) - (near + 1) * size
+    columns = int(np.ceil((max(a[:, 0].max(), p_all[:, 0].max(initial=-np.inf)) - origin[0]) / size)) + 2 * near + 2
+    mc = np.floor((a + 0.5 * step - origin) / size).astype(np.int64)
+    cell = mc[:, 1] * columns + mc[:, 0]
+    order = np.argsort(cell)
+    cell = cell[order]
+    pc = np.floor((p_all - origin) / size).astype(np.int64)
+    for dy in range(-near, near + 1):
+        for dx in range(-near, near + 1):
+            want = (pc[:, 1] + dy) * columns + pc[:, 0] + dx
+            first = np.searchsorted(cell, want, side="left")
+            count = np.searchsorted(cell, want, side="right") - first
+            has = np.flatnonzero(count > 0)
+            if len(has) == 0:
+                continue
+            first, count = first[has], count[has]
+            group = np.cumsum(count) - count
+            piece = order[np.repeat(first, count) + np.arange(count.sum()) - np.repeat(group, count)]
+            p = p_all[np.repeat(has, count)]
+            pa, pd = a[piece], step[piece]
+            t = np.clip(((p - pa) * pd).sum(axis=1) / np.maximum((pd * pd).sum(axis=1), 1e-300), 0.0, 1.0)
+            best = np.minimum.reduceat(np.hypot(*(p - pa - t[:, None] * pd).T), group)
+            out[finite[has]] = np.minimum(out[finite[has]], best)
+    out[~(out <= reach)] = np.nan  # farther: a nearer piece may lie outside the cells looked at
     return out
 
 
 def plot_contour_error(folder, trace, job):
     starts, ends = job.mark_segments()
-    on = trace["power_w"] > 0
+    on = np.flatnonzero(trace["power_w"] > 0)
+    on = on[::max(1, -(-len(on) // 5000))]  # at most 5000 points: a dot cloud shows no more
     fig, ax = new_figure((9, 4))
     t = trace["t_s"][on] * 1e3
     for name in ("setpoint", "actual"):
