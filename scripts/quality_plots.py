@@ -32,7 +32,7 @@ def plot_contour_distributions(ax, runs, definition):
     ax.set_ylabel("points under it [%]")
     ax.set_title("contour error, " + definition.replace("_", " "))
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="lower right")  # a fixed place: "best" costs a search over the data
 
 
 def plot_histogram(ax, runs, path, xlabel, title):
@@ -58,7 +58,7 @@ def plot_histogram(ax, runs, path, xlabel, title):
     ax.set_ylabel("samples [%]")
     ax.set_title(title)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper right")
 
 
 def quality_figure(plt, runs):
