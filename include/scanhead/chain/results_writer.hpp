@@ -29,7 +29,12 @@ using ResultsFinisher = PlotHook;
 
 /// \brief Writes the results folder \p dir (the contents in the file comment), calling \p finish
 /// (if set) on the complete temporary folder before the rename.
+/// \param[in] data_written  if set, called with the temporary folder (from a writing thread) as
+/// soon as metrics.yaml, job.yaml and trace.csv are in it, while the images are still being
+/// written: a plot process may start drawing what needs no image. \p finish is still called on
+/// the complete folder.
 /// \throws InputError if \p dir exists and is neither empty nor a previous results folder
 void writeResultsFolder(const std::string& dir, const RunMetrics& metrics, const EnergyStage& energy,
-                        const ChainConfig& config, const Job& job, const ResultsFinisher& finish = {});
+                        const ChainConfig& config, const Job& job, const ResultsFinisher& finish = {},
+                        const PlotHook& data_written = {});
 }  // namespace scanhead

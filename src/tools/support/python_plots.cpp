@@ -111,6 +111,32 @@ PlotProcess::~PlotProcess()
     close(socket_);
 }
 
+namespace
+{
+/// Sends all of \p text on \p socket; false if the reader is gone.
+bool sendAll(int socket, const std::string& text)
+{
+  for (std::size_t at = 0; at < text.size();)
+  {
+    const ssize_t n = send(socket, text.data() + at, text.size() - at, MSG_NOSIGNAL);
+    if (n < 0 && errno == EINTR)
+      continue;
+    if (n <= 0)
+      return false;
+    at += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+}  // namespace
+
+void PlotProcess::begin(const std::string& dir)
+{
+  if (begun_ || pid_ < 0)
+    return;
+  begun_ = true;
+  sent_ = sendAll(socket_, dir + "\n");
+}
+
 bool PlotProcess::plot(const std::string& dir)
 {
   if (used_)
@@ -121,21 +147,13 @@ bool PlotProcess::plot(const std::string& dir)
     warnSkipped(what_, path_);  // could not start (no socket pair or fork)
     return false;
   }
-  const std::string line = dir + "\n";
-  bool sent = true;
-  for (std::size_t at = 0; at < line.size() && sent;)
-  {
-    const ssize_t n = send(socket_, line.data() + at, line.size() - at, MSG_NOSIGNAL);
-    if (n < 0 && errno == EINTR)
-      continue;
-    sent = n > 0;
-    at += n > 0 ? static_cast<std::size_t>(n) : 0;
-  }
+  begin(dir);
+  sent_ = sendAll(socket_, "images\n") && sent_;
   close(socket_);
   socket_ = -1;
   const int status = reap(pid_);
   pid_ = -1;
-  if (sent && status >= 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0)
+  if (sent_ && status >= 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0)
     return true;
   warnSkipped(what_, path_);
   return false;
@@ -144,6 +162,11 @@ bool PlotProcess::plot(const std::string& dir)
 PlotHook PlotProcess::hook()
 {
   return [this](const std::string& dir) { plot(dir); };
+}
+
+PlotHook PlotProcess::beginHook()
+{
+  return [this](const std::string& dir) { begin(dir); };
 }
 
 std::unique_ptr<PlotProcess> startResultsPlots(const std::string& plots)
