@@ -7,6 +7,9 @@
 /// stream), energy_map.png (colour map with a colour bar; scale in energy_map.yaml),
 /// energy_map_16bit.png (linear, 0..peak) and energy_map.yaml (geometry and scale); then the
 /// finisher's files (the plots).
+///
+/// The files are independent: they are written side by side on a few threads (report/task_pool),
+/// each by one task, so their bytes are those of a serial write whatever the thread count.
 #pragma once
 
 #include <string>
