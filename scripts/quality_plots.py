@@ -32,7 +32,7 @@ def plot_contour_distributions(ax, runs, definition):
     ax.set_ylabel("points under it [%]")
     ax.set_title("contour error, " + definition.replace("_", " "))
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="lower right")  # a fixed place: "best" costs a search over the data
 
 
 def plot_histogram(ax, runs, path, xlabel, title):
@@ -58,7 +58,7 @@ def plot_histogram(ax, runs, path, xlabel, title):
     ax.set_ylabel("samples [%]")
     ax.set_title(title)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper right")
 
 
 def quality_figure(plt, runs):
@@ -84,5 +84,6 @@ def quality_figure(plt, runs):
                 f"{100.0 * contour[f'share_under_{u}um']:.2f} %" for u in (10, 20, 30)))
         lines.append(f"  peak {m.get('peak_energy_density_jpm2', 0) * 1e-6:.3g} J/mm^2")
     ax.text(0.0, 1.0, "\n".join(lines), va="top", family="monospace", fontsize=9)
-    fig.tight_layout()
+    # Fixed margins, not tight_layout(): that draws the whole figure once more to measure it.
+    fig.subplots_adjust(left=0.05, right=0.98, bottom=0.07, top=0.95, wspace=0.25, hspace=0.32)
     return fig

@@ -2,7 +2,9 @@
 #include "scanhead/common/number_text.hpp"
 #include "scanhead/common/text_file.hpp"
 
+#include <atomic>
 #include <filesystem>
+#include <functional>
 #include <system_error>
 
 #include "scanhead/chain/config_io.hpp"
@@ -12,6 +14,7 @@
 #include "scanhead/metrics/metrics_report.hpp"
 #include "scanhead/report/energy_exports.hpp"
 #include "scanhead/report/job_picture.hpp"
+#include "scanhead/report/task_pool.hpp"
 #include "scanhead/report/thermal_images.hpp"
 
 namespace scanhead
@@ -29,7 +32,8 @@ bool replaceable(const fs::path& dir)
 }  // namespace
 
 void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, const EnergyStage& energy,
-                        const ChainConfig& config, const Job& job, const ResultsFinisher& finish)
+                        const ChainConfig& config, const Job& job, const ResultsFinisher& finish,
+                        const PlotHook& data_written)
 {
   const fs::path dir = fs::absolute(dir_text).lexically_normal();
   if (fs::exists(dir) && (!fs::is_directory(dir) || !replaceable(dir)))
@@ -45,15 +49,31 @@ void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, 
   {
     fs::create_directory(tmp);
     writeTextFile(tmp / kResultsMarker, "written by scanhead\n");
-    writeTextFile(tmp / "metrics.yaml", metricsToYaml(metrics));
-    writeTextFile(tmp / "config.yaml", chainConfigToYaml(config));
-    writeTextFile(tmp / "job.yaml", scanJobToYaml(job));
-    writeTextFile(tmp / "job_stats.yaml", jobStatsYaml(computeJobStats(job, config.nc.implicit_jump_speed_mps)));
-    writeJobPicture((tmp / "job.png").string(), job, 1600);
-    writeTextFile(tmp / "trace.csv", energy.trace().csv(config.nc.period_s));
-    writeEnergyExports(tmp.string(), energy.map(), job, config.energy);
+    // Every file is independent of the others: written side by side, the longest first (on the
+    // THESIS layer: the energy overview, which reads the whole tiled map); each file's bytes are
+    // those of a serial write.
+    TaskPool pool;
+    addEnergyExportTasks(pool, tmp.string(), energy.map(), job, config.energy);
+    // The plots' data next, so data_written comes early; the last of the three calls it.
+    std::atomic<int> data_left{3};
+    auto data_file = [&](const char* name, const std::function<std::string()>& text) {
+      return [&, name, text] {
+        writeTextFile(tmp / name, text());
+        if (--data_left == 0 && data_written)
+          data_written(tmp.string());
+      };
+    };
+    pool.add(data_file("metrics.yaml", [&] { return metricsToYaml(metrics); }));
+    pool.add(data_file("job.yaml", [&] { return scanJobToYaml(job); }));
+    pool.add(data_file("trace.csv", [&] { return energy.trace().csv(config.nc.period_s); }));
+    pool.add([&] { writeJobPicture((tmp / "job.png").string(), job, 1600); });
+    pool.add([&] {
+      writeTextFile(tmp / "config.yaml", chainConfigToYaml(config));
+      writeTextFile(tmp / "job_stats.yaml", jobStatsYaml(computeJobStats(job, config.nc.implicit_jump_speed_mps)));
+    });
     if (energy.thermal() != nullptr)
-      writeThermalImages(tmp.string(), *energy.thermal());
+      pool.add([&] { writeThermalImages(tmp.string(), *energy.thermal()); });
+    pool.run();
     if (finish)
       finish(tmp.string());
     if (fs::exists(dir))

@@ -355,8 +355,17 @@ EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int6
       {
         const float* in = data + (r - tj * kTileSide) * kTileSide - ti * kTileSide;
         double* out_row = sum.data() + static_cast<std::size_t>((r - r0) / f) * static_cast<std::size_t>(out.width());
-        for (std::int64_t c = cc0; c < cc1; ++c)
-          out_row[(c - c0) / f] += in[c];
+        // Block by block, in column order (the same additions as one += per pixel, so the same
+        // bits), without a division per pixel: the overview of a whole layer reads ~1e9 pixels.
+        for (std::int64_t c = cc0; c < cc1;)
+        {
+          const std::int64_t j = (c - c0) / f;
+          const std::int64_t end = std::min(cc1, c0 + (j + 1) * f);
+          double s = out_row[j];
+          for (; c < end; ++c)
+            s += in[c];
+          out_row[j] = s;
+        }
       }
     }
   const double inv = 1.0 / static_cast<double>(f * f);

@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 
 #include "scanhead/common/number_text.hpp"
 #include "scanhead/report/colour_map.hpp"
 #include "scanhead/report/png_writer.hpp"
+#include "scanhead/report/task_pool.hpp"
 #include "scanhead/report/tiff_writer.hpp"
 
 namespace scanhead
@@ -21,82 +23,109 @@ constexpr int kColourSide = 2000;  // px; larger crops are shown by block maxima
 
 }  // namespace
 
-double writeFieldImages(const std::string& dir_text, const std::string& stem, const EnergyMap& map,
-                        const std::string& description, const FieldUnits& units)
+double addFieldImageTasks(TaskPool& pool, const std::string& dir_text, const std::string& stem,
+                          std::shared_ptr<const EnergyMap> map, const std::string& description, const FieldUnits& units)
 {
   const fs::path dir(dir_text);
-  const double scale = map.peak();
-  EnergyImageLayout layout;
-  writePng((dir / (stem + ".png")).string(), renderEnergyMap(map, scale, kColourSide, &layout));
-  writePng((dir / (stem + "_16bit.png")).string(), energyMapToGray16(map, scale));
-  // TIFF rows run top to bottom: the map's row 0 is its lowest y.
-  std::vector<float> top_down(static_cast<std::size_t>(map.width()) * static_cast<std::size_t>(map.height()));
-  for (int r = 0; r < map.height(); ++r)
-    std::copy(map.data().begin() + static_cast<std::ptrdiff_t>(r) * map.width(),
-              map.data().begin() + static_cast<std::ptrdiff_t>(r + 1) * map.width(),
-              top_down.begin() + static_cast<std::ptrdiff_t>(map.height() - 1 - r) * map.width());
-  TiffScale tiff;
-  tiff.pixel_x_m = tiff.pixel_y_m = map.pixel();
-  tiff.x_left_m = map.origin().x();
-  tiff.y_top_m = map.origin().y() + map.pixel() * map.height();
-  tiff.description = units.quantity + ", " + description + ", pixel " + fullPrecisionText(map.pixel()) + " m";
-  writeFloatTiff((dir / (stem + ".tiff")).string(), map.width(), map.height(), top_down.data(), tiff);
-  writeTextFile(dir / (stem + ".yaml"),
-                "# " + description +
-                    "\n"
-                    "# values: " +
-                    units.quantity +
-                    "\n"
-                    "# " +
-                    stem + "_16bit.png: value = pixel / 65535 * " + units.scale_key +
-                    ", row 0 = top (+y up)\n"
-                    "# " +
-                    stem + ".png: inferno colour map, colour bar on the right from 0 (bottom) to " + units.scale_key +
-                    " (top)\n"
-                    "# " +
-                    stem +
-                    ".tiff: float32 values, row 0 = top, GeoTIFF pixel scale and tie point in metres\n"
-                    "width: " +
-                    std::to_string(map.width()) + "\nheight: " + std::to_string(map.height()) + "\npixel_m: " +
-                    fullPrecisionText(map.pixel()) + "\norigin_m: [" + fullPrecisionText(map.origin().x()) + ", " +
-                    fullPrecisionText(map.origin().y()) + "]  # lower-left corner\n" + units.scale_key + ": " +
-                    fullPrecisionText(scale) + "\ncolour_image_block: " + std::to_string(layout.block) +
-                    "  # pixels per colour-image pixel (block maximum)\n");
+  const double scale = map->peak();
+  // The 16-bit PNG first: its zlib pass is the longest of the three.
+  pool.add([=] { writePng((dir / (stem + "_16bit.png")).string(), energyMapToGray16(*map, scale)); });
+  pool.add([=] {
+    EnergyImageLayout layout;
+    writePng((dir / (stem + ".png")).string(), renderEnergyMap(*map, scale, kColourSide, &layout));
+    writeTextFile(dir / (stem + ".yaml"),
+                  "# " + description +
+                      "\n"
+                      "# values: " +
+                      units.quantity +
+                      "\n"
+                      "# " +
+                      stem + "_16bit.png: value = pixel / 65535 * " + units.scale_key +
+                      ", row 0 = top (+y up)\n"
+                      "# " +
+                      stem + ".png: inferno colour map, colour bar on the right from 0 (bottom) to " + units.scale_key +
+                      " (top)\n"
+                      "# " +
+                      stem +
+                      ".tiff: float32 values, row 0 = top, GeoTIFF pixel scale and tie point in metres\n"
+                      "width: " +
+                      std::to_string(map->width()) + "\nheight: " + std::to_string(map->height()) + "\npixel_m: " +
+                      fullPrecisionText(map->pixel()) + "\norigin_m: [" + fullPrecisionText(map->origin().x()) + ", " +
+                      fullPrecisionText(map->origin().y()) + "]  # lower-left corner\n" + units.scale_key + ": " +
+                      fullPrecisionText(scale) + "\ncolour_image_block: " + std::to_string(layout.block) +
+                      "  # pixels per colour-image pixel (block maximum)\n");
+  });
+  pool.add([=] {
+    // TIFF rows run top to bottom: the map's row 0 is its lowest y.
+    std::vector<float> top_down(static_cast<std::size_t>(map->width()) * static_cast<std::size_t>(map->height()));
+    for (int r = 0; r < map->height(); ++r)
+      std::copy(map->data().begin() + static_cast<std::ptrdiff_t>(r) * map->width(),
+                map->data().begin() + static_cast<std::ptrdiff_t>(r + 1) * map->width(),
+                top_down.begin() + static_cast<std::ptrdiff_t>(map->height() - 1 - r) * map->width());
+    TiffScale tiff;
+    tiff.pixel_x_m = tiff.pixel_y_m = map->pixel();
+    tiff.x_left_m = map->origin().x();
+    tiff.y_top_m = map->origin().y() + map->pixel() * map->height();
+    tiff.description = units.quantity + ", " + description + ", pixel " + fullPrecisionText(map->pixel()) + " m";
+    writeFloatTiff((dir / (stem + ".tiff")).string(), map->width(), map->height(), top_down.data(), tiff);
+  });
   return scale;
 }
 
-void writeEnergyExports(const std::string& dir_text, const TiledEnergyMap& map, const Job& job,
-                        const EnergyConfig& config)
+double writeFieldImages(const std::string& dir, const std::string& stem, const EnergyMap& map,
+                        const std::string& description, const FieldUnits& units)
+{
+  TaskPool pool(1);
+  // The caller keeps the map: an aliasing pointer that owns nothing.
+  const double scale = addFieldImageTasks(
+      pool, dir, stem, std::shared_ptr<const EnergyMap>(std::shared_ptr<void>(), &map), description, units);
+  pool.run();
+  return scale;
+}
+
+void addEnergyExportTasks(TaskPool& pool, const std::string& dir_text, const TiledEnergyMap& map, const Job& job,
+                          const EnergyConfig& config)
 {
   const fs::path dir(dir_text);
-  const int factor = map.overviewFactor(kOverviewSide);
-  const EnergyMap overview = map.overview(factor);
-  writeFieldImages(dir.string(), "energy_map", overview,
-                   factor == 1 ? "the whole map at full resolution"
-                               : "overview: means of " + std::to_string(factor) + " x " + std::to_string(factor) +
-                                     " pixels of the " + fullPrecisionText(map.pixel()) +
-                                     " m map (full-resolution peak " + fullPrecisionText(map.peak()) + " J/m^2)");
   std::vector<MapRegion> crops = jobParts(job, 2.0 * config.spot_diameter_m);
   if (crops.size() > config.crop_parts)
     crops.resize(config.crop_parts);
   for (const MapRegion& region : parseMapRegions(config.crop_regions))
     crops.push_back(region);
-  if (crops.empty())
-    return;
-  fs::create_directory(dir / "crops");
-  for (const MapRegion& crop : crops)
-  {
-    const double p = map.pixel();
-    const auto col0 = static_cast<std::int64_t>(std::floor((crop.min_corner.x() - map.origin().x()) / p));
-    const auto row0 = static_cast<std::int64_t>(std::floor((crop.min_corner.y() - map.origin().y()) / p));
-    const auto col1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.x() - map.origin().x()) / p));
-    const auto row1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.y() - map.origin().y()) / p));
-    const int factor = TiledEnergyMap::blockFactor(col1 - col0, row1 - row0, kCropSide);
-    writeFieldImages((dir / "crops").string(), crop.name, map.region(col0, row0, col1 - col0, row1 - row0, factor),
-                     factor == 1
-                         ? crop.name + " at full resolution"
-                         : crop.name + ": means of " + std::to_string(factor) + " x " + std::to_string(factor) +
-                               " pixels (over " + std::to_string(kCropSide) + " pixels a side at full resolution)");
-  }
+  if (!crops.empty())
+    fs::create_directory(dir / "crops");
+  // The tiled map's reads are not thread-safe (its tile cache may load spilled tiles): one task
+  // reads every block of it, the overview first; the images of each block are tasks of their own.
+  pool.add([&pool, dir, &map, crops] {
+    const int factor = map.overviewFactor(kOverviewSide);
+    addFieldImageTasks(pool, dir.string(), "energy_map", std::make_shared<const EnergyMap>(map.overview(factor)),
+                       factor == 1 ? "the whole map at full resolution"
+                                   : "overview: means of " + std::to_string(factor) + " x " + std::to_string(factor) +
+                                         " pixels of the " + fullPrecisionText(map.pixel()) +
+                                         " m map (full-resolution peak " + fullPrecisionText(map.peak()) + " J/m^2)");
+    for (const MapRegion& crop : crops)
+    {
+      const double p = map.pixel();
+      const auto col0 = static_cast<std::int64_t>(std::floor((crop.min_corner.x() - map.origin().x()) / p));
+      const auto row0 = static_cast<std::int64_t>(std::floor((crop.min_corner.y() - map.origin().y()) / p));
+      const auto col1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.x() - map.origin().x()) / p));
+      const auto row1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.y() - map.origin().y()) / p));
+      const int crop_factor = TiledEnergyMap::blockFactor(col1 - col0, row1 - row0, kCropSide);
+      addFieldImageTasks(
+          pool, (dir / "crops").string(), crop.name,
+          std::make_shared<const EnergyMap>(map.region(col0, row0, col1 - col0, row1 - row0, crop_factor)),
+          crop_factor == 1
+              ? crop.name + " at full resolution"
+              : crop.name + ": means of " + std::to_string(crop_factor) + " x " + std::to_string(crop_factor) +
+                    " pixels (over " + std::to_string(kCropSide) + " pixels a side at full resolution)");
+    }
+  });
+}
+
+void writeEnergyExports(const std::string& dir, const TiledEnergyMap& map, const Job& job, const EnergyConfig& config)
+{
+  TaskPool pool(1);
+  addEnergyExportTasks(pool, dir, map, job, config);
+  pool.run();
 }
 }  // namespace scanhead

@@ -27,6 +27,7 @@ struct Arguments
   std::string out;
   scanhead::ConfigArguments config;
   bool quiet = false;
+  std::string plots = "all";
 };
 
 /// \brief The options into \p a. \return false after --help
@@ -42,7 +43,12 @@ bool parse(int argc, char** argv, Arguments& a)
                  "results folder to write (metrics.yaml, energy map, plots, job statistics); default: results/<job>")
       ->type_name("DIR");
   a.config.addTo(app, "nc.fir_t1_s=300e-6");
-  app.add_flag("--quiet", a.quiet, "no job statistics, progress or metrics table");
+  app.add_option("--plots", a.plots,
+                 "plots in the results folder: all (default), summary (energy_map_plot.png and quality.png) or "
+                 "none (no python started)")
+      ->type_name("none|summary|all")
+      ->transform(scanhead::check::oneOf({"none", "summary", "all"}));
+  app.add_flag("--quiet", a.quiet, "no job statistics, progress or metrics table; the run line only");
   return scanhead::parseCommandLine(app, argc, argv);
 }
 }  // namespace
@@ -68,6 +74,8 @@ int main(int argc, char** argv)
                   stats.jump_length_m * 1e3, stats.ideal_time_s * 1e3, stats.laser_on_energy_j);
     }
 
+    // Python imports matplotlib while the chain runs; only the drawing is left at the end.
+    const std::unique_ptr<PlotProcess> plotter = startResultsPlots(args.plots);
     BatchChain chain(config, optics);
     int last_percent = -1;
     const auto start = std::chrono::steady_clock::now();
@@ -89,17 +97,29 @@ int main(int argc, char** argv)
     });
     if (!args.quiet && metrics.samples > 200000)
       std::fprintf(stderr, "measuring the layer and writing %s ...\n", out.c_str());
-    writeResultsFolder(out, metrics, chain.energy(), config, job, plotFinisher());
+    const auto chain_end = std::chrono::steady_clock::now();
+    double plots_s = 0.0;
+    PlotHook plots;
+    if (plotter)
+      plots = [&](const std::string& dir) {
+        const auto plots_start = std::chrono::steady_clock::now();
+        plotter->plot(dir);
+        plots_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - plots_start).count();
+      };
+    writeResultsFolder(out, metrics, chain.energy(), config, job, plots, plotter ? plotter->beginHook() : PlotHook());
+    const auto end = std::chrono::steady_clock::now();
+    const double wall = std::chrono::duration<double>(end - start).count();
+    const double chain_s = std::chrono::duration<double>(chain_end - start).count();
+    const double results_s = std::chrono::duration<double>(end - chain_end).count() - plots_s;
     if (!args.quiet)
-    {
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::cout << metricsTable(metrics) << ncLimitsLine(chain.nc().stats(), config.nc);
-      std::printf(
-          "run: %.2f s wall for %.4g s of machine time (%.3gx real time, results and plots included), "
-          "process peak memory %.0f MiB\n",
-          wall, metrics.duration_s, metrics.duration_s / wall, processPeakResidentBytes() / 1048576.0);
+    std::printf(
+        "run: %.2f s wall (chain %.2f s, results %.2f s, plots %.2f s) for %.4g s of machine time "
+        "(%.3gx real time), process peak memory %.0f MiB\n",
+        wall, chain_s, results_s, plots_s, metrics.duration_s, metrics.duration_s / wall,
+        processPeakResidentBytes() / 1048576.0);
+    if (!args.quiet)
       std::cout << "results written to " << out << "/\n";
-    }
     return 0;
   }
   catch (const std::exception& e)

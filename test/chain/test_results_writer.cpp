@@ -3,6 +3,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 
 #include <unistd.h>
 
@@ -11,6 +13,8 @@
 #include "scanhead/chain/results_writer.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/job/generators/builtin_jobs.hpp"
+#include "scanhead/report/energy_exports.hpp"
+#include "scanhead/report/task_pool.hpp"
 
 using namespace scanhead;
 namespace fs = std::filesystem;
@@ -70,4 +74,45 @@ TEST(ResultsWriter, RefusesForeignFolderAndLeavesNoPartialOutput)
   EXPECT_FALSE(fs::exists(failing));
   EXPECT_FALSE(fs::exists(failing.parent_path() / ("." + failing.filename().string() + ".partial")));
   fs::remove_all(dir);
+}
+
+namespace
+{
+/// Every regular file under \p dir, by relative path, with its bytes.
+std::map<std::string, std::string> filesUnder(const fs::path& dir)
+{
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file())
+    {
+      std::ifstream in(entry.path(), std::ios::binary);
+      files[fs::relative(entry.path(), dir).string()] = std::string(std::istreambuf_iterator<char>(in), {});
+    }
+  return files;
+}
+}  // namespace
+
+TEST(ResultsWriter, EnergyExportsOnSeveralThreadsAreTheSerialBytes)
+{
+  Fixture f;
+  EnergyConfig energy = f.config.energy;
+  energy.crop_parts = 1;
+  energy.crop_regions = "-0.0005,-0.0005,0.0005,0.0005,centre";
+  const fs::path serial = freshDir("serial"), parallel = freshDir("parallel");
+  fs::create_directories(serial);
+  fs::create_directories(parallel);
+  writeEnergyExports(serial.string(), f.chain.energy().map(), f.job, energy);
+  TaskPool pool(3);
+  addEnergyExportTasks(pool, parallel.string(), f.chain.energy().map(), f.job, energy);
+  pool.run();
+  const auto expected = filesUnder(serial), got = filesUnder(parallel);
+  EXPECT_EQ(expected.size(), 8u);  // overview and the centre crop: .png, _16bit.png, .tiff, .yaml each
+  ASSERT_EQ(got.size(), expected.size());
+  for (const auto& [name, bytes] : expected)
+  {
+    ASSERT_TRUE(got.count(name)) << name;
+    EXPECT_TRUE(got.at(name) == bytes) << name << " differs";
+  }
+  fs::remove_all(serial);
+  fs::remove_all(parallel);
 }

@@ -7,6 +7,9 @@
 /// stream), energy_map.png (colour map with a colour bar; scale in energy_map.yaml),
 /// energy_map_16bit.png (linear, 0..peak) and energy_map.yaml (geometry and scale); then the
 /// finisher's files (the plots).
+///
+/// The files are independent: they are written side by side on a few threads (report/task_pool),
+/// each by one task, so their bytes are those of a serial write whatever the thread count.
 #pragma once
 
 #include <string>
@@ -29,7 +32,12 @@ using ResultsFinisher = PlotHook;
 
 /// \brief Writes the results folder \p dir (the contents in the file comment), calling \p finish
 /// (if set) on the complete temporary folder before the rename.
+/// \param[in] data_written  if set, called with the temporary folder (from a writing thread) as
+/// soon as metrics.yaml, job.yaml and trace.csv are in it, while the images are still being
+/// written: a plot process may start drawing what needs no image. \p finish is still called on
+/// the complete folder.
 /// \throws InputError if \p dir exists and is neither empty nor a previous results folder
 void writeResultsFolder(const std::string& dir, const RunMetrics& metrics, const EnergyStage& energy,
-                        const ChainConfig& config, const Job& job, const ResultsFinisher& finish = {});
+                        const ChainConfig& config, const Job& job, const ResultsFinisher& finish = {},
+                        const PlotHook& data_written = {});
 }  // namespace scanhead

@@ -3,6 +3,7 @@
 /// crops of each part (each square of the THESIS job) and of user regions.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "scanhead/energy/map_regions.hpp"
 #include "scanhead/energy/tiled_energy_map.hpp"
 #include "scanhead/job/scan_job.hpp"
+#include "scanhead/report/task_pool.hpp"
 
 namespace scanhead
 {
@@ -26,6 +28,19 @@ struct FieldUnits
 /// writes temperatures this way). \return the scale used (the grid's peak)
 double writeFieldImages(const std::string& dir, const std::string& stem, const EnergyMap& map,
                         const std::string& description, const FieldUnits& units = FieldUnits());
+
+/// \brief writeFieldImages as three tasks of \p pool (16-bit PNG; colour PNG and YAML; TIFF), which
+/// share \p map. \return the scale used (the grid's peak)
+double addFieldImageTasks(TaskPool& pool, const std::string& dir, const std::string& stem,
+                          std::shared_ptr<const EnergyMap> map, const std::string& description,
+                          const FieldUnits& units = FieldUnits());
+
+/// \brief writeEnergyExports as tasks of \p pool: one reads the tiled map (the overview, then each
+/// crop) and adds each block's image tasks; \p map, \p pool must outlive pool.run(). The crops
+/// folder is created now.
+/// \throws ConfigError from parseMapRegions
+void addEnergyExportTasks(TaskPool& pool, const std::string& dir, const TiledEnergyMap& map, const Job& job,
+                          const EnergyConfig& config);
 
 /// \brief The whole export of a run into \p dir: the overview (full resolution up to
 /// kOverviewSide pixels a side, else block means) as energy_map.*, the first config.crop_parts
