@@ -104,37 +104,42 @@ void LayerQuality::hold(std::uint64_t index, const Eigen::Vector2d& p)
   ring_y_[i] = ring_y_[mirror] = p.y();
 }
 
-namespace
+namespace layer_quality_detail
 {
-using Double2 = double __attribute__((vector_size(16)));
+/// Eight doubles: one AVX-512 register, two AVX2 or four SSE2 ones (GCC lowers the vector type to
+/// what the clone's target has; every lane does the same IEEE operations, so every clone gives the
+/// same bits; the library is built with -ffp-contract=off: no FMA).
+typedef double Double8 __attribute__((vector_size(64)));
 
 /// \brief Offset of the first smallest of (x_i − cx)² + (y_i − cy)², i < n, and that value (the
 /// loop `if (d2 < best) best = d2, at = i` from best = +inf, at = 0: NaN never wins, ties keep the
-/// first). Two lanes take the even and odd offsets with the same strict comparison, then the
-/// lanes are merged (smaller value; equal values: smaller offset).
-std::size_t firstNearest(const double* x, const double* y, std::size_t n, double cx, double cy, double& best_d2)
+/// first). Eight lanes take the offsets i ≡ lane (mod 8) with the same strict comparison, then the
+/// lanes are merged (smaller value; equal values: smaller offset), then the remainder in order.
+__attribute__((target_clones("avx512f", "avx2", "default"))) std::size_t firstNearest(const double* x, const double* y,
+                                                                                      std::size_t n, double cx,
+                                                                                      double cy, double& best_d2)
 {
-  const Double2 vcx = {cx, cx}, vcy = {cy, cy};
-  Double2 best = {INFINITY, INFINITY};
-  Double2 at = {0.0, 0.0};  // offsets as doubles (exact)
-  Double2 offset = {0.0, 1.0};
-  const Double2 two = {2.0, 2.0};
+  const Double8 vcx = {cx, cx, cx, cx, cx, cx, cx, cx}, vcy = {cy, cy, cy, cy, cy, cy, cy, cy};
+  Double8 best = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
+  Double8 at = {0, 0, 0, 0, 0, 0, 0, 0};  // offsets as doubles (exact)
+  Double8 offset = {0, 1, 2, 3, 4, 5, 6, 7};
+  const Double8 eight = {8, 8, 8, 8, 8, 8, 8, 8};
   std::size_t i = 0;
-  for (; i + 2 <= n; i += 2)
+  for (; i + 8 <= n; i += 8)
   {
-    Double2 vx, vy;
+    Double8 vx, vy;
     __builtin_memcpy(&vx, x + i, sizeof vx);
     __builtin_memcpy(&vy, y + i, sizeof vy);
-    const Double2 dx = vx - vcx, dy = vy - vcy;
-    const Double2 d2 = dx * dx + dy * dy;
+    const Double8 dx = vx - vcx, dy = vy - vcy;
+    const Double8 d2 = dx * dx + dy * dy;
     const auto smaller = d2 < best;
     best = smaller ? d2 : best;
     at = smaller ? offset : at;
-    offset += two;
+    offset += eight;
   }
   double b = INFINITY;
   std::size_t a = 0;
-  for (int lane = 0; lane < 2; ++lane)
+  for (int lane = 0; lane < 8; ++lane)
   {
     const auto o = static_cast<std::size_t>(at[lane]);
     if (best[lane] < b || (best[lane] == b && b < INFINITY && o < a))
@@ -143,7 +148,7 @@ std::size_t firstNearest(const double* x, const double* y, std::size_t n, double
       a = o;
     }
   }
-  for (; i < n; ++i)  // the odd one out comes last: a tie keeps the earlier
+  for (; i < n; ++i)  // the remainder comes last: a tie keeps the earlier
   {
     const double dx = x[i] - cx, dy = y[i] - cy;
     const double d2 = dx * dx + dy * dy;
@@ -156,7 +161,7 @@ std::size_t firstNearest(const double* x, const double* y, std::size_t n, double
   best_d2 = b;
   return a;
 }
-}  // namespace
+}  // namespace layer_quality_detail
 
 void LayerQuality::sameInstant(std::uint64_t k)
 {
@@ -174,9 +179,9 @@ void LayerQuality::sameInstant(std::uint64_t k)
   }
   double nearest_d2 = INFINITY;
   const std::size_t start = static_cast<std::size_t>(lo & ring_mask_);  // [lo, hi] contiguous from here
-  const std::uint64_t nearest =
-      lo + firstNearest(ring_x_.data() + start, ring_y_.data() + start, static_cast<std::size_t>(hi - lo + 1),
-                        c.point.x(), c.point.y(), nearest_d2);
+  const std::uint64_t nearest = lo + layer_quality_detail::firstNearest(ring_x_.data() + start, ring_y_.data() + start,
+                                                                        static_cast<std::size_t>(hi - lo + 1),
+                                                                        c.point.x(), c.point.y(), nearest_d2);
   double best = std::sqrt(nearest_d2);  // an isolated sample: the distance to it
   if (nearest > ring_first_)
     best = std::min(best, pointSegmentDistance(c.point, held(nearest - 1), held(nearest)));

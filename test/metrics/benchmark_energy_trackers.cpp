@@ -4,7 +4,7 @@
 // Not a test and not run by the suite. Times are the thread's CPU time (CLOCK_THREAD_CPUTIME_ID),
 // so other processes on the cores matter less; run it on a quiet machine all the same.
 //
-//   benchmark_energy_trackers [--repeat N] [--config FILE] JOB [key=value ...]
+//   benchmark_energy_trackers [--repeat N] [--only ROW_PREFIX] [--config FILE] JOB [key=value ...]
 //   e.g. benchmark_energy_trackers hatch:size=0.02,spacing=0.0001,speed=1
 //        benchmark_energy_trackers squares:rows=1,columns=1 recipe.preset=thesis1
 //
@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@
 #include "scanhead/common/package_path.hpp"
 #include "scanhead/job/formats/job_io.hpp"
 #include "scanhead/job/job_files.hpp"
+#include "scanhead/metrics/contour_error.hpp"
 #include "scanhead/metrics/laser_placement.hpp"
 #include "scanhead/metrics/laser_settling.hpp"
 #include "scanhead/metrics/layer_quality.hpp"
@@ -53,8 +55,12 @@ struct Times
 };
 
 /// \brief Runs \p body \p repeat times (after one warm-up) and prints count / time in M/s.
+std::string g_only;  ///< --only PREFIX: run only the rows whose name starts with it
+
 void report(const char* name, double count, int repeat, const std::function<double()>& body)
 {
+  if (std::string(name).compare(0, g_only.size(), g_only) != 0)
+    return;
   body();
   Times t;
   for (int r = 0; r < repeat; ++r)
@@ -93,6 +99,8 @@ int main(int argc, char** argv)
       const std::string a = argv[i];
       if (a == "--repeat" && i + 1 < argc)
         repeat = std::max(1, std::atoi(argv[++i]));
+      else if (a == "--only" && i + 1 < argc)
+        g_only = argv[++i];
       else if (a == "--config" && i + 1 < argc)
         config_path = argv[++i];
       else if (spec.empty())
@@ -208,6 +216,41 @@ int main(int argc, char** argv)
       return s;
     });
     std::printf("  (finish: %.0f commanded points)\n", commanded);
+    // The nearest-path pass alone: the index build, then the queries (same-instant bound).
+    {
+      PathPoints path(lo);
+      for (const SpotChunk& c : chunks)
+        for (const SpotSample& sample : c.samples)
+          path.add(sample.actual);
+      const double n = static_cast<double>(path.size());
+      report("NearestPathIndex build", n, repeat, [&] { return timed([&] { NearestPathIndex index(path); }); });
+      const NearestPathIndex index(path);
+      const std::uint64_t lag_samples = static_cast<std::uint64_t>(std::llround(lag / plan.period_s));
+      std::vector<Eigen::Vector2d> commands;
+      PathTimeline::Cursor cursor;
+      for (std::uint64_t k = 0; k * plan.period_s < plan.program.timeline.duration(); ++k)
+        commands.push_back(plan.program.timeline.positionAt(static_cast<double>(k) * plan.period_s, cursor));
+      const double m = static_cast<double>(commands.size());
+      double sink = 0.0;
+      report("(b) same instant", m, repeat, [&] {
+        return timed([&] {
+          for (std::size_t k = 0; k < commands.size(); ++k)
+            if (k + lag_samples < path.size())
+              sink += sameInstantDistance(path, k + lag_samples, commands[k]);
+        });
+      });
+      report("(a) nearest, (b) as bound", m, repeat, [&] {
+        return timed([&] {
+          for (std::size_t k = 0; k < commands.size(); ++k)
+          {
+            const double bound = k + lag_samples < path.size() ? sameInstantDistance(path, k + lag_samples, commands[k])
+                                                               : std::numeric_limits<double>::infinity();
+            sink += index.distance(commands[k], bound);
+          }
+        });
+      });
+      std::printf("  (%.0f commanded points; checksum %.6g)\n", m, sink);
+    }
     report("all trackers (1 thread)", samples, repeat, [&] {
       StreamCounter counter;
       CornerTracker corners(findCorners(plan.program.timeline, config.energy.corner_min_angle_deg * M_PI / 180.0),
