@@ -135,8 +135,12 @@ AxisModel::Output CascadeAxis::step(double setpoint_rad, double setpoint_velocit
   return out;
 }
 
-void CascadeAxis::stepPair(CascadeAxis& x, CascadeAxis& y, const SetpointSample* setpoint, std::size_t n,
-                           JointSample* out)
+// Clones: the same SSE2-width lanes; AVX-512's 32 vector registers and three-operand forms spare
+// the spills and copies around the recursion (the servo library is built with -ffp-contract=off, so
+// no clone fuses a multiply-add: every clone gives the same bits).
+__attribute__((target_clones("avx512f", "avx2", "default"))) void CascadeAxis::stepPair(CascadeAxis& x, CascadeAxis& y,
+                                                                                        const SetpointSample* setpoint,
+                                                                                        std::size_t n, JointSample* out)
 {
   const auto scalarStep = [&](std::size_t k) {
     const SetpointSample& s = setpoint[k];
