@@ -204,9 +204,22 @@ void FillRateGrid::markSegment(Eigen::Vector2d a, Eigen::Vector2d b, std::uint8_
 {
   // Beyond the grid dilated by w nothing can be reached: clip first, so the sub-step count is
   // bounded by the grid's size whatever the points.
-  if (!clipToBox(a, b, Eigen::Vector2d(-kRadius, -kRadius), Eigen::Vector2d(width_ + kRadius, height_ + kRadius)))
+  // Both ends a cell or more inside that box: the clip would return them unchanged (t0 = 0, t1 = 1:
+  // |hi − a| exceeds |b − a| by a whole cell, far beyond the rounding), so it is skipped.
+  const double in_lo = 1.0 - kRadius, in_x = width_ + kRadius - 1.0, in_y = height_ + kRadius - 1.0;
+  const bool inside = a.x() >= in_lo && a.x() <= in_x && a.y() >= in_lo && a.y() <= in_y && b.x() >= in_lo &&
+                      b.x() <= in_x && b.y() >= in_lo && b.y() <= in_y;
+  if (!inside &&
+      !clipToBox(a, b, Eigen::Vector2d(-kRadius, -kRadius), Eigen::Vector2d(width_ + kRadius, height_ + kRadius)))
     return;
   const Eigen::Vector2d d = b - a;
+  // |d|² ≤ kSubStep² gives √ ≤ kSubStep (√ is correctly rounded, kSubStep² exact): one sub-segment
+  // without the root (the common case: a sample step is a fraction of the spot).
+  if (d.squaredNorm() <= kSubStep * kSubStep)
+  {
+    markSubSegment(a, b, bit);
+    return;
+  }
   const std::int64_t n = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(d.norm() / kSubStep)));
   Eigen::Vector2d from = a;
   for (std::int64_t k = 1; k <= n; ++k)

@@ -37,16 +37,37 @@ LayerQuality::Command LayerQuality::commandAt(std::uint64_t k, PathTimeline::Cur
     return c;
   const double t = static_cast<double>(k) * period_s_;
   const std::size_t segment = timeline_.segmentAt(t, cursor);
-  c.point = timeline_.positionAt(t, cursor);
+  // PathTimeline::positionAt's arithmetic on the segment just found (one search, not two).
+  if (!(t > 0.0))
+    c.point = timeline_.startPoint();
+  else if (segment == PathTimeline::npos)
+    c.point = timeline_.endPoint();
   if (segment == PathTimeline::npos)
     return c;
   const PathSegment& s = timeline_.segments()[segment];
+  if (t > 0.0)
+  {
+    double u = (t - s.t_start_s) / s.duration_s;
+    u = u < 0.0 ? 0.0 : (u > 1.0 ? 1.0 : u);  // t_start of the next one is rounded: stay on the segment
+    c.point = s.start_m + u * (s.end_m - s.start_m);
+  }
   if (!s.mark)
     c.kind = Kind::Jump;
   else
     c.kind = s.polyline < contour_polyline_.size() && contour_polyline_[s.polyline] ? Kind::Contour : Kind::Hatch;
   c.speed_mps = s.dwell || s.delay ? 0.0 : s.speed_mps;
   return c;
+}
+
+const LayerQuality::Command& LayerQuality::cachedCommand(std::uint64_t k, PathTimeline::Cursor& cursor)
+{
+  const std::size_t slot = static_cast<std::size_t>(k & (command_cache_.size() - 1));
+  if (command_cache_k_[slot] != k)
+  {
+    command_cache_[slot] = commandAt(k, cursor);
+    command_cache_k_[slot] = k;
+  }
+  return command_cache_[slot];
 }
 
 void LayerQuality::addTo(ContourErrorSplit& split, Kind kind, double error_m)
@@ -69,16 +90,84 @@ void LayerQuality::addTo(ContourErrorSplit& split, Kind kind, double error_m)
   }
 }
 
-const Eigen::Vector2d& LayerQuality::held(std::uint64_t index) const
+Eigen::Vector2d LayerQuality::held(std::uint64_t index) const
 {
-  return ring_[static_cast<std::size_t>(index % ring_.size())];
+  const std::size_t i = static_cast<std::size_t>(index & ring_mask_);
+  return Eigen::Vector2d(ring_x_[i], ring_y_[i]);
 }
+
+void LayerQuality::hold(std::uint64_t index, const Eigen::Vector2d& p)
+{
+  const std::size_t i = static_cast<std::size_t>(index & ring_mask_);
+  const std::size_t mirror = i + static_cast<std::size_t>(ring_mask_) + 1;
+  ring_x_[i] = ring_x_[mirror] = p.x();
+  ring_y_[i] = ring_y_[mirror] = p.y();
+}
+
+namespace layer_quality_detail
+{
+/// Eight doubles: one AVX-512 register, two AVX2 or four SSE2 ones (GCC lowers the vector type to
+/// what the clone's target has; every lane does the same IEEE operations, so every clone gives the
+/// same bits; the library is built with -ffp-contract=off: no FMA).
+typedef double Double8 __attribute__((vector_size(64)));
+
+/// \brief Offset of the first smallest of (x_i − cx)² + (y_i − cy)², i < n, and that value (the
+/// loop `if (d2 < best) best = d2, at = i` from best = +inf, at = 0: NaN never wins, ties keep the
+/// first). Eight lanes take the offsets i ≡ lane (mod 8) with the same strict comparison, then the
+/// lanes are merged (smaller value; equal values: smaller offset), then the remainder in order.
+__attribute__((target_clones("avx512f", "avx2", "default"))) std::size_t firstNearest(const double* x, const double* y,
+                                                                                      std::size_t n, double cx,
+                                                                                      double cy, double& best_d2)
+{
+  const Double8 vcx = {cx, cx, cx, cx, cx, cx, cx, cx}, vcy = {cy, cy, cy, cy, cy, cy, cy, cy};
+  Double8 best = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
+  Double8 at = {0, 0, 0, 0, 0, 0, 0, 0};  // offsets as doubles (exact)
+  Double8 offset = {0, 1, 2, 3, 4, 5, 6, 7};
+  const Double8 eight = {8, 8, 8, 8, 8, 8, 8, 8};
+  std::size_t i = 0;
+  for (; i + 8 <= n; i += 8)
+  {
+    Double8 vx, vy;
+    __builtin_memcpy(&vx, x + i, sizeof vx);
+    __builtin_memcpy(&vy, y + i, sizeof vy);
+    const Double8 dx = vx - vcx, dy = vy - vcy;
+    const Double8 d2 = dx * dx + dy * dy;
+    const auto smaller = d2 < best;
+    best = smaller ? d2 : best;
+    at = smaller ? offset : at;
+    offset += eight;
+  }
+  double b = INFINITY;
+  std::size_t a = 0;
+  for (int lane = 0; lane < 8; ++lane)
+  {
+    const auto o = static_cast<std::size_t>(at[lane]);
+    if (best[lane] < b || (best[lane] == b && b < INFINITY && o < a))
+    {
+      b = best[lane];
+      a = o;
+    }
+  }
+  for (; i < n; ++i)  // the remainder comes last: a tie keeps the earlier
+  {
+    const double dx = x[i] - cx, dy = y[i] - cy;
+    const double d2 = dx * dx + dy * dy;
+    if (d2 < b)
+    {
+      b = d2;
+      a = i;
+    }
+  }
+  best_d2 = b;
+  return a;
+}
+}  // namespace layer_quality_detail
 
 void LayerQuality::sameInstant(std::uint64_t k)
 {
   // Command k pairs with the samples j = k + L ± N the ring holds: the nearest of them (the point of
   // least following error), then the projection on its adjacent segments.
-  const Command c = commandAt(k, command_cursor_);
+  const Command c = cachedCommand(k, command_cursor_);
   fill_.addCommanded(c.point, c.kind == Kind::Hatch);
   const std::uint64_t centre = k + lag_samples_;
   const std::uint64_t lo = std::max(centre >= window_samples_ ? centre - window_samples_ : 0, ring_first_);
@@ -88,17 +177,11 @@ void LayerQuality::sameInstant(std::uint64_t k)
     ++report_.unmatched_points;  // no sample of its window arrived (stream gap)
     return;
   }
-  std::uint64_t nearest = lo;
   double nearest_d2 = INFINITY;
-  for (std::uint64_t j = lo; j <= hi; ++j)
-  {
-    const double d2 = (held(j) - c.point).squaredNorm();
-    if (d2 < nearest_d2)
-    {
-      nearest_d2 = d2;
-      nearest = j;
-    }
-  }
+  const std::size_t start = static_cast<std::size_t>(lo & ring_mask_);  // [lo, hi] contiguous from here
+  const std::uint64_t nearest = lo + layer_quality_detail::firstNearest(ring_x_.data() + start, ring_y_.data() + start,
+                                                                        static_cast<std::size_t>(hi - lo + 1),
+                                                                        c.point.x(), c.point.y(), nearest_d2);
   double best = std::sqrt(nearest_d2);  // an isolated sample: the distance to it
   if (nearest > ring_first_)
     best = std::min(best, pointSegmentDistance(c.point, held(nearest - 1), held(nearest)));
@@ -109,7 +192,7 @@ void LayerQuality::sameInstant(std::uint64_t k)
 
 void LayerQuality::unmatched(std::uint64_t k)
 {
-  const Command c = commandAt(k, command_cursor_);
+  const Command c = cachedCommand(k, command_cursor_);
   fill_.addCommanded(c.point, c.kind == Kind::Hatch);
   ++report_.unmatched_points;
 }
@@ -122,7 +205,18 @@ void LayerQuality::process(const SpotChunk& chunk)
     lag_samples_ = static_cast<std::uint64_t>(std::llround(std::max(0.0, report_.lag_s) / period_s_));
     window_samples_ = static_cast<std::uint64_t>(std::llround(config_.same_instant_window_s / period_s_));
     report_.window_s = static_cast<double>(window_samples_) * period_s_;
-    ring_.assign(static_cast<std::size_t>(2 * window_samples_ + 3), Eigen::Vector2d::Zero());
+    ring_size_ = 2 * window_samples_ + 3;
+    std::uint64_t storage = 1;
+    while (storage < ring_size_)
+      storage *= 2;
+    ring_mask_ = storage - 1;
+    ring_x_.assign(static_cast<std::size_t>(2 * storage), 0.0);
+    ring_y_.assign(static_cast<std::size_t>(2 * storage), 0.0);
+    std::size_t cache = 1;
+    while (cache < window_samples_ + 2)
+      cache *= 2;
+    command_cache_.assign(cache, Command());
+    command_cache_k_.assign(cache, UINT64_MAX);
     // Commanded points: k·Ts < layer time (the same rounding as the NC's sample times).
     program_samples_ = static_cast<std::uint64_t>(std::ceil(report_.layer_time_s / period_s_ - 1e-9));
     report_.commanded_points = program_samples_;
@@ -152,7 +246,7 @@ void LayerQuality::process(const SpotChunk& chunk)
       report_.angle_error_x.add(s.angle_error.x());
       report_.angle_error_y.add(s.angle_error.y());
     }
-    const Command c = commandAt(m >= lag_samples_ ? m - lag_samples_ : program_samples_, lagged_cursor_);
+    const Command c = cachedCommand(m >= lag_samples_ ? m - lag_samples_ : program_samples_, lagged_cursor_);
     const bool marking = s.power_w > 0.0 && (c.kind == Kind::Hatch || c.kind == Kind::Contour);
     fill_.addActual(s.actual, s.power_w > 0.0 && c.kind == Kind::Hatch);
     if (marking && c.speed_mps > 0.0 && started_ && m > ring_first_)
@@ -166,10 +260,10 @@ void LayerQuality::process(const SpotChunk& chunk)
       path_.add(s.actual);
     if (!started_)
       ring_first_ = m;
-    ring_[static_cast<std::size_t>(m % ring_.size())] = s.actual;
+    hold(m, s.actual);
     started_ = true;
     next_index_ = m + 1;
-    ring_first_ = std::max(ring_first_, next_index_ > ring_.size() ? next_index_ - ring_.size() : 0);
+    ring_first_ = std::max(ring_first_, next_index_ > ring_size_ ? next_index_ - ring_size_ : 0);
     // Command k is complete once sample k + L + N + 1 is in (its window and the segment after it).
     while (next_command_ < program_samples_ && next_command_ + lag_samples_ + window_samples_ + 1 <= m)
       sameInstant(next_command_++);

@@ -116,8 +116,13 @@ inline double NearestPathIndex::elementDistance(std::uint32_t element, const Eig
 {
   const std::size_t i = element & kIdMask;
   if (element & kPointFlag)
-    return (path_->point(i) - p).norm();
-  return pointSegmentDistance(p, path_->point(i), path_->point(i + 1));
+    return (path_->point(i) - p).squaredNorm();
+  // pointSegmentDistance (segment_distance.hpp) before its square root.
+  const Eigen::Vector2d a = path_->point(i);
+  const Eigen::Vector2d ab = path_->point(i + 1) - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).squaredNorm();
 }
 
 NearestPathIndex::NearestPathIndex(const PathPoints& path)
@@ -401,8 +406,11 @@ void NearestPathIndex::visitCell(const Grid& g, std::size_t cell, const Eigen::V
     search(items_[begin] & ~kChildFlag, p, best, work);
     return;
   }
+  // min over the cell of √(d²) = √(min d²) (√ is monotone and correctly rounded): one root per cell.
+  double best2 = std::numeric_limits<double>::infinity();
   for (std::uint32_t k = begin; k < end; ++k)
-    best = std::min(best, elementDistance(items_[k], p));
+    best2 = std::min(best2, elementDistance(items_[k], p));
+  best = std::min(best, std::sqrt(best2));
   if (work)
     work->segments_tested += end - begin;
 }

@@ -164,6 +164,18 @@ void GalvoPlant::advanceLevel(int level, double voltage_v)
   }
 }
 
+void GalvoPlant::prepareSteps(double dt_s)
+{
+  if (dt_s == steps_[0].dt_s)
+    return;
+  double h = dt_s;
+  for (Step& s : steps_)
+  {
+    prepare(s, h);
+    h /= 10.0;
+  }
+}
+
 void GalvoPlant::advance(double voltage_v, double dt_s)
 {
   if (!(dt_s > 0.0))
@@ -174,15 +186,7 @@ void GalvoPlant::advance(double voltage_v, double dt_s)
   }
   const double u = std::clamp(voltage_v, -params_.supply_voltage_v, params_.supply_voltage_v);
   last_voltage_ = u;
-  if (dt_s != steps_[0].dt_s)
-  {
-    double h = dt_s;
-    for (Step& s : steps_)
-    {
-      prepare(s, h);
-      h /= 10.0;
-    }
-  }
+  prepareSteps(dt_s);
   if (params_.coulomb_torque_nm == 0.0)
   {
     // No Coulomb term: T_fr = Tp constant, the step is exact whatever ω_r does.

@@ -226,7 +226,8 @@ JointChunk GalvoServo::process(const SetpointChunk& setpoint)
   }
   if (cascade_[0] != nullptr && cascade_[1] != nullptr)
   {
-    stepBoth(*cascade_[0], *cascade_[1], setpoint, out);
+    // Both axes in the lanes of one vector (bit-identical to stepping them one by one).
+    CascadeAxis::stepPair(*cascade_[0], *cascade_[1], setpoint.samples.data(), n, out.samples.data());
     return out;
   }
   for (int a = 0; a < 2; ++a)

@@ -104,9 +104,12 @@ private:
     double speed_mps = 0.0;  ///< programmed speed (0 on dwells and holds)
   };
   Command commandAt(std::uint64_t k, PathTimeline::Cursor& cursor) const;
+  /// \brief commandAt(k), from the cache of the last commands when it holds k.
+  const Command& cachedCommand(std::uint64_t k, PathTimeline::Cursor& cursor);
   void sameInstant(std::uint64_t k);
   void unmatched(std::uint64_t k);
-  const Eigen::Vector2d& held(std::uint64_t index) const;
+  Eigen::Vector2d held(std::uint64_t index) const;
+  void hold(std::uint64_t index, const Eigen::Vector2d& p);
   static void addTo(ContourErrorSplit& split, Kind kind, double error_m);
 
   EnergyConfig config_;
@@ -121,8 +124,16 @@ private:
   PathPoints path_;
   bool path_gapped_ = false;
   PathTimeline::Cursor command_cursor_, lagged_cursor_;
-  // The last 2N + 3 actual samples, sample i at ring_[i % size]; [ring_first_, next_index_) are held.
-  std::vector<Eigen::Vector2d> ring_;
+  // The last ring_size_ = 2N + 3 actual samples, [ring_first_, next_index_), sample i's x at
+  // ring_x_[i & ring_mask_] and again at ring_mask_ + 1 places further (a mirror: any run of held
+  // samples is contiguous, for the vectorised search), y likewise.
+  std::vector<double> ring_x_, ring_y_;
+  std::uint64_t ring_size_ = 0;
+  std::uint64_t ring_mask_ = 0;  ///< storage 2^b − 1 ≥ ring_size_
+  // Command k is needed twice (the lagged command of sample k + L, then its same-instant pairing
+  // N + 1 samples later): the last ones, command k at command_cache_[k & mask].
+  std::vector<Command> command_cache_;
+  std::vector<std::uint64_t> command_cache_k_;  ///< which k each entry holds (UINT64_MAX: none)
   std::uint64_t ring_first_ = 0;
   std::uint64_t next_index_ = 0;
   bool started_ = false;

@@ -83,7 +83,7 @@ private:
   void emitLeaf(const std::vector<std::uint32_t>& elements);
   void search(std::size_t grid, const Eigen::Vector2d& p, double& best, NearestPathWork* work) const;
   void visitCell(const Grid& g, std::size_t cell, const Eigen::Vector2d& p, double& best, NearestPathWork* work) const;
-  double elementDistance(std::uint32_t element, const Eigen::Vector2d& p) const;
+  double elementDistance(std::uint32_t element, const Eigen::Vector2d& p) const;  ///< squared [m²]
   void elementEnds(std::uint32_t element, Eigen::Vector2d& a, Eigen::Vector2d& b) const;
 
   const PathPoints* path_;

@@ -42,6 +42,15 @@ public:
   const CascadeController& controller() const { return controller_; }
   double voltage() const { return voltage_; }  ///< voltage held now [V]
 
+  /// \brief Steps \p x and \p y over the same \p n setpoint samples (axis 0 and 1 of each) and
+  /// writes \p out[k] (position, velocity, current of both axes): the two axes run in the lanes of
+  /// one SSE2 vector, sliding steps of the plants in lockstep, each lane doing the scalar step's
+  /// operations in the same order, so outputs and states are bit-identical to calling x.step() and
+  /// y.step() per sample. A plant step where the rigid speed is 0 or changes sign (friction
+  /// refinement) is taken by that plant's scalar code. Falls back to step() per sample when the
+  /// axes are not in lockstep (controller faster than the samples, phases, periods or modes differ).
+  static void stepPair(CascadeAxis& x, CascadeAxis& y, const SetpointSample* setpoint, std::size_t n, JointSample* out);
+
 private:
   GalvoPlant plant_;
   CascadeController controller_;

@@ -37,6 +37,44 @@ namespace scanhead
 ///   path ≈ the filtered setpoint. Off: the pure THESIS structure.
 /// - anti-windup: when the voltage saturates (|U| > supply) and the current error drives it
 ///   further, the current and speed integrators keep their previous values (conditional integration).
+/// \brief Constants of CascadeController::update, precomputed from the gains and the period
+/// (T = double; or a vector of doubles, one lane per axis, when two controllers run in lockstep).
+/// Products that update() forms left to right first (K2·Jeq/Kc, Ke·K1) and 1 − a are kept as
+/// computed there, so the precomputation changes no bit.
+template <class T>
+struct CascadeControllerCoefficients
+{
+  T lp_a;      ///< a = e^{-T/τf}
+  T lp_b;      ///< 1 − a
+  T diff_c;    ///< (1 − a)/T ("differentiate" mode)
+  T pd_a;      ///< (2τd − T)/(2τd + T)
+  T pd_b;      ///< 2Tdθ/(2τd + T)
+  T ktheta;    ///< Kθ
+  T k1;        ///< K1
+  T k2_jeq;    ///< K2·Jeq/Kc
+  T kiw;       ///< Kiω
+  T cw;        ///< T/(2Tiω)
+  T ci;        ///< T/(2Tii)
+  T kii;       ///< Kii
+  T period_s;  ///< T
+  T r_ohm;     ///< R
+  T l_h;       ///< L
+  T ke_k1;     ///< Ke·K1
+  T supply_v;  ///< saturation [V]
+};
+
+/// \brief The controller's memory (T as in CascadeControllerCoefficients).
+template <class T>
+struct CascadeControllerState
+{
+  T e_theta_prev, d_state;
+  T e_w_prev, int_w;
+  T e_i_prev, int_i;
+  T lp1, lp2, lp3, theta_ref_prev, d1_prev;
+  T i_ff_prev;  ///< last i_ff (discrete derivative) [A]
+  T omega_ref, i_ref, u_ff;
+};
+
 class CascadeController
 {
 public:
@@ -55,25 +93,16 @@ public:
   /// \param[in] theta_ref, omega_ref, alpha_ref  setpoint and its NC derivatives [rad, rad/s, rad/s²]
   /// \param[in] theta, omega, current  measured angle, speed, current [rad, rad/s, A]
   double update(double theta_ref, double omega_ref, double alpha_ref, double theta, double omega, double current);
-  double speedReference() const { return omega_ref_; }  ///< last ω_ref [rad/s]
-  double currentReference() const { return i_ref_; }    ///< last i_ref [A]
-  double voltageFeedforward() const { return u_ff_; }   ///< last U_ff [V] (0 when off)
+  double speedReference() const { return s_.omega_ref; }  ///< last ω_ref [rad/s]
+  double currentReference() const { return s_.i_ref; }    ///< last i_ref [A]
+  double voltageFeedforward() const { return s_.u_ff; }   ///< last U_ff [V] (0 when off)
 
 private:
-  CascadeGains g_;
-  double jeq_over_kc_, period_s_, supply_v_;
+  friend class CascadeAxis;  ///< steps two controllers in lockstep (CascadeAxis::stepPair)
+
   bool differentiate_;
-  double r_ohm_, l_h_, ke_;  ///< plant R, L, Ke of U_ff
   bool voltage_ff_;
-  double lp_a_ = 0.0;               ///< e^{-T/τf}
-  double pd_a_ = 0.0, pd_b_ = 0.0;  ///< PD derivative filter coefficients
-  double ci_ = 0.0, cw_ = 0.0;      ///< T/(2Ti), T/(2Tiω)
-  // state
-  double e_theta_prev_ = 0.0, d_state_ = 0.0;
-  double e_w_prev_ = 0.0, int_w_ = 0.0;
-  double e_i_prev_ = 0.0, int_i_ = 0.0;
-  double lp1_ = 0.0, lp2_ = 0.0, lp3_ = 0.0, theta_ref_prev_ = 0.0, d1_prev_ = 0.0;
-  double i_ff_prev_ = 0.0;  ///< last i_ff (discrete derivative) [A]
-  double omega_ref_ = 0.0, i_ref_ = 0.0, u_ff_ = 0.0;
+  CascadeControllerCoefficients<double> k_{};
+  CascadeControllerState<double> s_{};
 };
 }  // namespace scanhead

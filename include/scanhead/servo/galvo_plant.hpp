@@ -75,6 +75,7 @@ public:
   const GalvoPlantParams& params() const { return params_; }
 
 private:
+  friend class CascadeAxis;  ///< steps two plants in lockstep (CascadeAxis::stepPair)
   using State = Eigen::Matrix<double, 5, 1>;
   struct Step
   {
@@ -86,6 +87,8 @@ private:
   };
   static constexpr int kLevels = 3;  ///< dt, dt/10, dt/100
   void prepare(Step& step, double dt_s) const;
+  /// \brief The steps of the three levels for a step of \p dt_s (recomputed only when it changes).
+  void prepareSteps(double dt_s);
   static void apply(const Step& step, State& x, double voltage_v, double friction_nm);
   /// \brief Advances one step of level \p level, refining to the next level where ω_r changes sign
   /// or a stuck rotor breaks away.
