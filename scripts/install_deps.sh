@@ -6,6 +6,7 @@ packages=(
   build-essential cmake catkin colcon python3-colcon-ros python3-colcon-bash
   ros-core-dev libroscpp-dev libtf2-ros-dev liburdfdom-dev libtinyxml-dev libeigen3-dev libyaml-cpp-dev zlib1g-dev
   libcli11-dev
+  libnodeletlib-dev libnodeletlib-tools
   libgtest-dev librosbag-dev ros-message-generation libstd-msgs-dev libgeometry-msgs-dev
   libsensor-msgs-dev libtrajectory-msgs-dev libvisualization-msgs-dev libnav-msgs-dev
   python3-rosbag python3-roslaunch python3-rostest python3-rosnode python3-rostopic rosbash

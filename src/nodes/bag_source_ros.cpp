@@ -62,17 +62,17 @@ void BagSourceNode::pump()
     if (const auto job = m.instantiate<ScanJob>())
     {
       window_.start(job->job_id, window_samples_);
-      job_pub_.publish(*job);
+      job_pub_.publish(job);
     }
     else if (const auto plan = m.instantiate<NcJobPlan>())
-      plan_pub_.publish(*plan);
+      plan_pub_.publish(plan);
     else if (const auto setpoint = m.instantiate<NcSetpoint>())
     {
-      setpoint_out_.push(*setpoint);
+      setpoint_out_.push(setpoint);
       window_.sent(setpoint->chunk.first_index + setpoint->trajectory.points.size());
     }
     else if (const auto laser = m.instantiate<NcLaser>())
-      laser_out_.push(*laser);
+      laser_out_.push(laser);
     ++next_;
   }
 }

@@ -1,5 +1,7 @@
 #include "cam_path_publisher_ros.hpp"
 
+#include <boost/make_shared.hpp>
+
 #include "ros_config.hpp"
 #include "ros_conversions.hpp"
 #include "scanhead/chain/chain_stages.hpp"
@@ -29,7 +31,7 @@ bool CamPathPublisherNode::publishJob(const std::string& job_argument)
     cam.reset(job_argument);
     const Job job = cam.finish();
     const std::uint32_t id = next_job_id_++;
-    job_pub_.publish(toMsg(job, id));
+    job_pub_.publish(boost::make_shared<const ScanJob>(toMsg(job, id)));  // shared: no copy to nodelets
     ROS_INFO("cam: job %u '%s' (%zu polylines) from %s", id, job.name.c_str(), job.polylines.size(),
              job.source.c_str());
     return true;

@@ -1,5 +1,7 @@
 #include "nc_interpolator_ros.hpp"
 
+#include <boost/make_shared.hpp>
+
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
 
@@ -32,7 +34,8 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
     auto nc = std::make_unique<NcStage>(config_, *optics_);
     nc->reset(job);
     nc_ = std::move(nc);
-    plan_pub_.publish(toMsg(nc_->plan(), msg.job_id, settings_yaml_));  // before any chunk of the job
+    // Before any chunk of the job; shared, so a nodelet energy stage gets it without a copy.
+    plan_pub_.publish(boost::make_shared<const NcJobPlan>(toMsg(nc_->plan(), msg.job_id, settings_yaml_)));
     window_.start(msg.job_id, config_.stream.window_chunks * config_.stream.chunk_samples);
     ROS_INFO("nc: job %u '%s': %llu samples (%.3f ms)", msg.job_id, job.name.c_str(),
              static_cast<unsigned long long>(nc_->plan().total_samples),

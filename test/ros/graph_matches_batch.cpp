@@ -1,9 +1,14 @@
-// Runs the live graph's job again in process and compares the metrics.yaml texts byte for byte.
+// Runs the live graph's job again in process and compares the metrics.yaml texts byte for byte;
+// and checks the graph ran as the launch said: every stream published by the one nodelet manager
+// (~manager set), or each by its own stage node (~manager empty).
 #include <gtest/gtest.h>
+#include <ros/master.h>
 #include <ros/ros.h>
 #include <scanhead/JobMetrics.h>
 
+#include <set>
 #include <sstream>
+#include <string>
 
 #include "ros_config.hpp"
 #include "scanhead/chain/batch_chain.hpp"
@@ -49,6 +54,47 @@ TEST(GraphMatchesBatch, IdenticalMetrics)
   const RunMetrics batch = chain.run(loadJob(job_spec, config.cam));
   EXPECT_EQ(graph->metrics_yaml, metricsToYaml(batch));
   EXPECT_EQ(graph->samples, batch.samples);
+}
+
+namespace
+{
+/// The nodes that publish \p topic, as the master knows them (its getSystemState).
+std::set<std::string> publishersOf(const std::string& topic)
+{
+  XmlRpc::XmlRpcValue request, response, payload;
+  request[0] = ros::this_node::getName();
+  std::set<std::string> nodes;
+  if (!ros::master::execute("getSystemState", request, response, payload, true))
+    return nodes;
+  XmlRpc::XmlRpcValue& publishers = payload[0];
+  for (int i = 0; i < publishers.size(); ++i)
+    if (static_cast<std::string>(publishers[i][0]) == topic)
+      for (int j = 0; j < publishers[i][1].size(); ++j)
+        nodes.insert(static_cast<std::string>(publishers[i][1][j]));
+  return nodes;
+}
+}  // namespace
+
+TEST(GraphMatchesBatch, StagesWhereTheLaunchPutThem)
+{
+  ros::NodeHandle nh, private_nh("~");
+  std::string manager;
+  private_nh.param("manager", manager, std::string());
+  // The stream each stage publishes, by the stage's node name.
+  const std::pair<const char*, const char*> streams[] = {{"nc/setpoint", "nc_interpolator"},
+                                                         {"galvo/joint_states_chunk", "galvo_servo"},
+                                                         {"optics/spot", "optical_chain"},
+                                                         {"energy/ack", "energy_accumulator"}};
+  for (const auto& [topic, node] : streams)
+  {
+    const std::set<std::string> expected{manager.empty() ? ros::names::resolve(node) : ros::names::resolve(manager)};
+    std::set<std::string> publishers = publishersOf(nh.resolveName(topic));
+    // Wait for the registration only if this test runs alone (after IdenticalMetrics all are up).
+    for (const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
+         publishers != expected && ros::WallTime::now() < deadline; publishers = publishersOf(nh.resolveName(topic)))
+      ros::WallDuration(0.1).sleep();
+    EXPECT_EQ(publishers, expected) << topic;
+  }
 }
 
 int main(int argc, char** argv)

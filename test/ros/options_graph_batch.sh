@@ -4,8 +4,10 @@
 # graph and the batch runner write identical metrics.yaml; also on the OPT table 2 machine (defects:=),
 # and for the layer report with its options (crops, defocus, a spilling map, the thermal view).
 # Registered with CTest (see CMakeLists.txt); needs the installed package on the environment.
+# The graph's stages run as nodelets in one manager; SCANHEAD_NODELETS=false runs them as nodes.
 set -euo pipefail
 run=${1:-scanhead_run}
+nodelets=${SCANHEAD_NODELETS:-true}
 launch_dir="$(cd "$(dirname "$0")/../../launch" && pwd)"
 tmp=$(mktemp -d /tmp/scanhead_options.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
@@ -20,7 +22,7 @@ compare() {  # name job settings... (optics.defects=SET goes to the launch file'
     case $s in optics.defects=*) defects=${s#optics.defects=};; *) graph_set+=("$s");; esac
   done
   timeout 180 roslaunch "$launch_dir/virtual_machine.launch" job:="$job" out:="$tmp/$name-graph" \
-    defects:="$defects" set:="${graph_set[*]}" > "$tmp/$name.log" 2>&1 || { cat "$tmp/$name.log"; exit 1; }
+    defects:="$defects" set:="${graph_set[*]}" nodelets:="$nodelets" > "$tmp/$name.log" 2>&1 || { cat "$tmp/$name.log"; exit 1; }
   "$run" --job "$job" --out "$tmp/$name-batch" --quiet "${set_args[@]}"
   if ! cmp "$tmp/$name-batch/metrics.yaml" "$tmp/$name-graph/metrics.yaml"; then
     diff "$tmp/$name-batch/metrics.yaml" "$tmp/$name-graph/metrics.yaml" || true

@@ -1,15 +1,50 @@
 /// \file ros_chunk_outlet.hpp
 /// \brief A publisher that holds its messages until every expected subscriber is connected,
 /// so no chunk is lost to a consumer (or a recorder) that connects late.
+///
+/// roscpp counts one subscriber link per subscribing process: the stages of one nodelet manager
+/// that consume a topic are one link, whether one or three of them are loaded yet. So the stream
+/// consumers of this process register themselves (InProcessConsumer, held by StageNodeAdapter) and
+/// a topic's subscribers are its links from other processes plus the consumers registered here.
+///
+/// Messages are published as shared pointers to const: between nodelets in one manager roscpp
+/// hands the subscribers that very message (zero copy, no serialisation); it serialises only for
+/// subscribers in other processes (separate nodes, rosbag record).
 #pragma once
 
 #include <ros/ros.h>
 
+#include <boost/make_shared.hpp>
+#include <boost/shared_ptr.hpp>
+#include <cstdint>
 #include <deque>
 #include <string>
+#include <utility>
 
 namespace scanhead
 {
+/// \brief One consumer of a stream topic in this process, registered for as long as it lives.
+/// Construct it after subscribing (the topic's in-process link exists then), destroy it before.
+class InProcessConsumer
+{
+public:
+  /// \param[in] topic the resolved topic name (ros::Subscriber::getTopic())
+  explicit InProcessConsumer(std::string topic);
+  ~InProcessConsumer();
+  InProcessConsumer(const InProcessConsumer&) = delete;
+  InProcessConsumer& operator=(const InProcessConsumer&) = delete;
+
+  /// \return the consumers of \p topic registered in this process
+  static std::uint32_t count(const std::string& topic);
+
+private:
+  std::string topic_;
+};
+
+/// \brief The subscribers of \p publisher's topic: its links from other processes plus the
+/// consumers registered in this one (all of which share one in-process link).
+std::uint32_t subscribers(const ros::Publisher& publisher);
+
 template <class Message>
 class ChunkOutlet
 {
@@ -23,16 +58,18 @@ public:
   }
 
   /// \brief Publishes now if the subscribers are there, else keeps the message for flush().
-  void push(const Message& msg)
+  void push(Message&& msg) { push(boost::make_shared<const Message>(std::move(msg))); }
+  /// \brief As above, for a message already shared (not copied; nobody may change it any more).
+  void push(boost::shared_ptr<const Message> msg)
   {
-    pending_.push_back(msg);
+    pending_.push_back(std::move(msg));
     flush();
   }
 
   /// \brief Publishes what is held once the expected subscribers are connected.
   void flush()
   {
-    if (publisher_.getNumSubscribers() < expected_)
+    if (subscribers(publisher_) < expected_)
       return;
     while (!pending_.empty())
     {
@@ -47,7 +84,7 @@ public:
 private:
   ros::Publisher publisher_;
   std::uint32_t expected_;
-  std::deque<Message> pending_;
+  std::deque<boost::shared_ptr<const Message>> pending_;
 };
 
 /// \brief Subscribers a stream topic must have before it flows: `~subscribers` (the stage's

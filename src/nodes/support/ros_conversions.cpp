@@ -185,6 +185,10 @@ JointStreamChunk toMsg(const JointChunk& chunk, const ChunkHeader& header)
   JointStreamChunk msg;
   msg.chunk = header;
   msg.joint_names = {kJointNames[0], kJointNames[1]};
+  const std::size_t n = chunk.samples.size();  // sized once: no regrowth while filling
+  msg.position.reserve(2 * n);
+  msg.velocity.reserve(2 * n);
+  msg.effort.reserve(2 * n);
   for (const JointSample& s : chunk.samples)
   {
     put2(msg.position, s.position);
@@ -218,6 +222,12 @@ SpotStream toMsg(const SpotChunk& chunk, const ChunkHeader& header)
 {
   SpotStream msg;
   msg.chunk = header;
+  const std::size_t n = chunk.samples.size();  // sized once: no regrowth while filling
+  msg.actual.reserve(2 * n);
+  msg.setpoint.reserve(2 * n);
+  msg.direction.reserve(3 * n);
+  msg.angle_error.reserve(2 * n);
+  msg.power.reserve(n);
   for (const SpotSample& s : chunk.samples)
   {
     put2(msg.actual, s.actual);

@@ -24,6 +24,7 @@
 #include <tuple>
 #include <utility>
 
+#include "ros_chunk_outlet.hpp"
 #include "scanhead/common/stage_driver.hpp"
 
 namespace scanhead
@@ -114,6 +115,8 @@ private:
           tryProcess(key);
         };
     subscribers_[I] = nh.subscribe<Msg>(topic, 0, callback, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+    // After subscribing: its producer in this process counts this stage from now on (ChunkOutlet).
+    consumers_[I] = std::make_unique<InProcessConsumer>(subscribers_[I].getTopic());
   }
 
   static bool complete(const Messages& m)
@@ -171,6 +174,7 @@ private:
   std::string name_;
   StageDriver<StageT> driver_;
   std::array<ros::Subscriber, kInputs> subscribers_;
+  std::array<std::unique_ptr<InProcessConsumer>, kInputs> consumers_;  ///< after subscribers_: destroyed first
   std::map<Key, Messages> pending_;
   std::set<std::uint32_t> waiting_logged_;   ///< jobs whose waiting was logged (once each)
   std::shared_ptr<const FirstMsg> current_;  ///< the first input of the chunk being run (its header)
