@@ -7,6 +7,9 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "scanhead/common/errors.hpp"
 
@@ -259,13 +262,32 @@ SCANHEAD_INLINE double sqrtOf(double x)
 }
 SCANHEAD_INLINE Lanes sqrtOf(Lanes x)
 {
-  // Correctly rounded like std::sqrt (IEEE 754 sqrt), lane by lane; NaN for negative lanes.
+  // IEEE 754 sqrt is correctly rounded, so the packed instruction gives std::sqrt's bits lane by
+  // lane (NaN for a negative lane, whose ray has failed anyway); unlike std::sqrt it has no errno
+  // path, which kept the lane loop scalar with a libm call per lane.
+#if defined(__SSE2__)
+  __m128d lo;
+  __m128d hi;
+  std::memcpy(&lo, &x, sizeof lo);
+  std::memcpy(&hi, reinterpret_cast<const char*>(&x) + sizeof lo, sizeof hi);
+  lo = _mm_sqrt_pd(lo);
+  hi = _mm_sqrt_pd(hi);
+  Lanes r;
+  std::memcpy(&r, &lo, sizeof lo);
+  std::memcpy(reinterpret_cast<char*>(&r) + sizeof lo, &hi, sizeof hi);
+  return r;
+#else
   Lanes r;
   for (int i = 0; i < kLanes; ++i)
   {
     r[i] = __builtin_sqrt(x[i] < 0.0 ? std::numeric_limits<double>::quiet_NaN() : x[i]);
   }
   return r;
+#endif
+}
+SCANHEAD_INLINE bool anyOf(LaneMask m)
+{
+  return ((m[0] | m[1]) | (m[2] | m[3])) != 0;
 }
 SCANHEAD_INLINE double selectOf(bool m, double a, double b)
 {
@@ -320,9 +342,14 @@ SCANHEAD_INLINE void sinCos(Lanes x, Lanes& s, Lanes& c)
                                                     z * (-1.0 / 3628800 + z * (1.0 / 479001600.0 +
                                                                                z * (-1.0 / 87178291200.0 +
                                                                                     z * (1.0 / 20922789888000.0))))))));
+  const LaneMask outside = !(absOf(x) <= 0.25);
+  if (!anyOf(outside))
+  {
+    return;
+  }
   for (int i = 0; i < kLanes; ++i)
   {
-    if (!(std::abs(x[i]) <= 0.25))
+    if (outside[i] != 0)
     {
       double si;
       double ci;
@@ -434,9 +461,12 @@ __attribute__((target_clones("avx2", "default"))) std::size_t traceLanes(const d
       std::memcpy(dir_y + k, &dir.y, sizeof(Lanes));
       std::memcpy(dir_z + k, &dir.z, sizeof(Lanes));
     }
-    for (int i = 0; i < kLanes; ++i)
+    if (anyOf(fail.failed))
     {
-      failures += fail.failed[i] != 0 ? 1 : 0;
+      for (int i = 0; i < kLanes; ++i)
+      {
+        failures += fail.failed[i] != 0 ? 1 : 0;
+      }
     }
   }
   return failures;
