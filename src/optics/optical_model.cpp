@@ -266,16 +266,13 @@ SCANHEAD_INLINE Lanes sqrtOf(Lanes x)
   // lane (NaN for a negative lane, whose ray has failed anyway); unlike std::sqrt it has no errno
   // path, which kept the lane loop scalar with a libm call per lane.
 #if defined(__SSE2__)
-  __m128d lo;
-  __m128d hi;
-  std::memcpy(&lo, &x, sizeof lo);
-  std::memcpy(&hi, reinterpret_cast<const char*>(&x) + sizeof lo, sizeof hi);
-  lo = _mm_sqrt_pd(lo);
-  hi = _mm_sqrt_pd(hi);
-  Lanes r;
-  std::memcpy(&r, &lo, sizeof lo);
-  std::memcpy(reinterpret_cast<char*>(&r) + sizeof lo, &hi, sizeof hi);
-  return r;
+  // halves through registers (a store of two halves and a load of the whole would stall)
+  typedef double Half __attribute__((vector_size(16)));
+  const Half lo = __builtin_shufflevector(x, x, 0, 1);
+  const Half hi = __builtin_shufflevector(x, x, 2, 3);
+  const Half root_lo = reinterpret_cast<Half>(_mm_sqrt_pd(reinterpret_cast<__m128d>(lo)));
+  const Half root_hi = reinterpret_cast<Half>(_mm_sqrt_pd(reinterpret_cast<__m128d>(hi)));
+  return __builtin_shufflevector(root_lo, root_hi, 0, 1, 2, 3);
 #else
   Lanes r;
   for (int i = 0; i < kLanes; ++i)
