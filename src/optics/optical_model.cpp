@@ -307,17 +307,29 @@ struct Mask2
 {
   LaneMask a, b;
 };
-#define SCANHEAD_LANES2_OP(op)                                                                                        \
-  SCANHEAD_INLINE Lanes2 operator op(const Lanes2& x, const Lanes2& y) { return {x.a op y.a, x.b op y.b}; }        \
-  SCANHEAD_INLINE Lanes2 operator op(const Lanes2& x, double y) { return {x.a op y, x.b op y}; }                    \
-  SCANHEAD_INLINE Lanes2 operator op(double x, const Lanes2& y) { return {x op y.a, x op y.b}; }
+#define SCANHEAD_LANES2_OP(op)                                         \
+  SCANHEAD_INLINE Lanes2 operator op(const Lanes2& x, const Lanes2& y) \
+  {                                                                    \
+    return {x.a op y.a, x.b op y.b};                                   \
+  }                                                                    \
+  SCANHEAD_INLINE Lanes2 operator op(const Lanes2& x, double y)        \
+  {                                                                    \
+    return {x.a op y, x.b op y};                                       \
+  }                                                                    \
+  SCANHEAD_INLINE Lanes2 operator op(double x, const Lanes2& y)        \
+  {                                                                    \
+    return {x op y.a, x op y.b};                                       \
+  }
 SCANHEAD_LANES2_OP(+)
 SCANHEAD_LANES2_OP(-)
 SCANHEAD_LANES2_OP(*)
 SCANHEAD_LANES2_OP(/)
 #undef SCANHEAD_LANES2_OP
-#define SCANHEAD_LANES2_CMP(op)                                                                                       \
-  SCANHEAD_INLINE Mask2 operator op(const Lanes2& x, double y) { return {x.a op y, x.b op y}; }
+#define SCANHEAD_LANES2_CMP(op)                                \
+  SCANHEAD_INLINE Mask2 operator op(const Lanes2& x, double y) \
+  {                                                            \
+    return {x.a op y, x.b op y};                               \
+  }
 SCANHEAD_LANES2_CMP(<)
 SCANHEAD_LANES2_CMP(<=)
 SCANHEAD_LANES2_CMP(>)
@@ -512,10 +524,9 @@ constexpr std::size_t kStepRays = 2 * kLanes;
 /// traceKernel over \p n rays (n a multiple of kStepRays), kStepRays at a time; returns the
 /// number of rays that failed (their outputs are NaN). Cloned for AVX2 (same operations, so same
 /// bits).
-__attribute__((target_clones("avx2", "default"))) std::size_t traceLanes(const detail::TraceSurfaces& g, std::size_t n,
-                                                                         const double* q_x, const double* q_y,
-                                                                         double* spot_x, double* spot_y, double* dir_x,
-                                                                         double* dir_y, double* dir_z)
+__attribute__((target_clones("arch=x86-64-v4", "avx2", "default"))) std::size_t traceLanes(
+    const detail::TraceSurfaces& g, std::size_t n, const double* q_x, const double* q_y, double* spot_x, double* spot_y,
+    double* dir_x, double* dir_y, double* dir_z)
 {
   std::size_t failures = 0;
   const Lanes nan = Lanes{} + std::numeric_limits<double>::quiet_NaN();
