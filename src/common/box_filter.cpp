@@ -34,10 +34,25 @@ __attribute__((target_clones("avx2", "default"))) void tapSums(const double* __r
     }
   }
 }
+
+/// d[i] = (h[i + m + 1] − ((1 − f)·h[i + 1] + f·h[i])) / T for i < count: derivative() of each
+/// sample of the block (x_n − x(t_n − T))/T with the same operations (h[i + m + 1] = x_n,
+/// h[i + 1] = x_{n−m}, h[i] = x_{n−m−1}); AVX2 clone without FMA, so the same bits.
+__attribute__((target_clones("avx2", "default"))) void delayDifferences(const double* __restrict h, std::size_t m,
+                                                                        double f, double scale_s, std::size_t count,
+                                                                        double* __restrict d)
+{
+  const double g = 1.0 - f;
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    d[i] = (h[i + m + 1] - (g * h[i + 1] + f * h[i])) / scale_s;
+  }
+}
 }  // namespace
 
 template <int N>
-void BoxFilter<N>::pushBlock(const Vector* x, std::size_t count, Vector* average, Vector* derivative)
+void BoxFilter<N>::pushBlock(const Vector* x, std::size_t count, Vector* average, Vector* derivative,
+                             int average_channels)
 {
   // h[k] = x_{n0 − history + k}: the history (sampleAgo(history − 1 − k) before the block), then x.
   const std::size_t history = taps_ - 1;
@@ -53,19 +68,40 @@ void BoxFilter<N>::pushBlock(const Vector* x, std::size_t count, Vector* average
     {
       block_history_[history + i] = x[i][c];
     }
-    tapSums(block_history_.data(), weights_.data(), taps_, count, block_sums_.data());
-    for (std::size_t i = 0; i < count; ++i)
+    if (c < average_channels)
     {
-      average[i][c] = block_history_[history + i] + block_sums_[i];
+      tapSums(block_history_.data(), weights_.data(), taps_, count, block_sums_.data());
+      for (std::size_t i = 0; i < count; ++i)
+      {
+        average[i][c] = block_history_[history + i] + block_sums_[i];
+      }
     }
-  }
-  for (std::size_t i = 0; i < count; ++i)
-  {
-    push(x[i]);
     if (derivative != nullptr)
     {
-      derivative[i] = this->derivative();
+      // derivative(), sample by sample of the block: the backward difference if T = 0
+      if (identity_)
+      {
+        for (std::size_t i = 0; i < count; ++i)
+        {
+          derivative[i][c] = (block_history_[history + i] - block_history_[history + i - 1]) / period_s_;
+        }
+      }
+      else
+      {
+        // history = m + 1, so h[i + m + 1] is sample i of the block
+        delayDifferences(block_history_.data(), whole_, frac_, duration_s_, count, block_sums_.data());
+        for (std::size_t i = 0; i < count; ++i)
+        {
+          derivative[i][c] = block_sums_[i];
+        }
+      }
     }
+  }
+  // The ring keeps the last taps samples: pushing only those leaves the same window (every read
+  // is relative to head_).
+  for (std::size_t i = count > taps_ ? count - taps_ : 0; i < count; ++i)
+  {
+    push(x[i]);
   }
 }
 

@@ -53,10 +53,10 @@ Recipe followFilteredSetpoint(const NcConfig& config)
   return recipe;
 }
 
-constexpr double kLimitSlack = 1.0 + 1e-6;
+constexpr double kLimitSlack = 1.0 + 1e-6;  ///< relative slack before a sample counts as over a limit
 
 /// Nodes per axis of the Newton IGT's predictor table (bicubic error < 0.05 nm, built in ~2.5 ms).
-constexpr int kPredictorNodes = 65;  ///< relative slack before a sample counts as over a limit
+constexpr int kPredictorNodes = 65;
 
 /// J̇·q̇ = (dJ/dt)·q̇, the curvature term of ẍ = J q̈ + J̇ q̇: a central difference of the Jacobian
 /// along q̇ (steps of 1e-6 rad: truncation ~1e-12, rounding ~1e-10 relative).
@@ -74,6 +74,22 @@ Eigen::Vector2d jacobianRateTimesVelocity(const OpticalModel& optics, const Eige
       (optics.jacobian(q + kStep_rad * u) - optics.jacobian(q - kStep_rad * u)) * (speed / (2.0 * kStep_rad));
   return rate * q_dot;
 }
+
+/// q += M (x − spot), point by point (vectorised across points; no FMA, so every clone gives
+/// the same bits).
+__attribute__((target_clones("avx2", "default"))) void newtonStep(
+    std::size_t n, const double* __restrict x, const double* __restrict y, const double* __restrict spot_x,
+    const double* __restrict spot_y, const double* __restrict m00, const double* __restrict m01,
+    const double* __restrict m10, const double* __restrict m11, double* __restrict q_x, double* __restrict q_y)
+{
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double e_x = x[i] - spot_x[i];
+    const double e_y = y[i] - spot_y[i];
+    q_x[i] += m00[i] * e_x + m01[i] * e_y;
+    q_y[i] += m10[i] * e_x + m11[i] * e_y;
+  }
+}
 }  // namespace
 
 /// The inverse geometric transform: Newton on the optics, or the correction table.
@@ -87,8 +103,7 @@ struct NcInterpolator::Igt
   bool have_predictor = false;
   CorrectionTable predictor;
   // scratch of solveBlock (structure of arrays)
-  std::vector<double> q_x, q_y, spot_x, spot_y;
-  std::vector<Eigen::Matrix2d> step;
+  std::vector<double> q_x, q_y, spot_x, spot_y, m00, m01, m10, m11;
 
   Eigen::Vector2d solve(const OpticalModel& optics, const Eigen::Vector2d& x, const Eigen::Vector2d& guess) const
   {
@@ -106,64 +121,46 @@ struct NcInterpolator::Igt
     }
   }
 
-  /// \brief Newton IGT of \p n points at once, each independent of the others (so of chunking):
-  /// q⁰ from the predictor table, whose error is < 0.05 nm on the plane (correction_table.hpp),
-  /// then one simplified Newton step q¹ = q⁰ + M (x − h(q⁰)) with M the interpolated J⁻¹
-  /// (contraction |I − M J| < ~1e-3, so |x − h(q¹)| ~ 1e-16 m). Both residuals are traced
-  /// (OpticalModel::traceBlock, bit-identical to trace()): a point is accepted, as by
+  /// \brief Newton IGT of \p n points (x[i], y[i]) at once, each independent of the others (so of
+  /// chunking): q⁰ from the predictor table, whose error is < 0.05 nm on the plane
+  /// (correction_table.hpp), then one simplified Newton step q¹ = q⁰ + M (x − h(q⁰)) with M the
+  /// interpolated J⁻¹ (contraction |I − M J| < ~1e-3, so |x − h(q¹)| ~ 1e-16 m). Both residuals
+  /// are traced (OpticalModel::traceBlock, bit-identical to trace()): a point is accepted, as by
   /// OpticalModel::inverse, only where |x − h(q)| <= newton_tolerance_m and q is within the joint
-  /// limits. Elsewhere ok[i] = 0 and q[i] is the best start for the scalar Newton.
+  /// limits. Elsewhere ok[i] = 0 and q[i] is the best start for the scalar Newton. Structure of
+  /// arrays throughout (CorrectionTable::predictBlock).
   /// \pre have_predictor
-  void solveBlock(const OpticalModel& optics, std::size_t n, const Eigen::Vector2d* x, Eigen::Vector2d* q,
+  void solveBlock(const OpticalModel& optics, std::size_t n, const double* x, const double* y, Eigen::Vector2d* q,
                   unsigned char* ok)
   {
     q_x.resize(n);
     q_y.resize(n);
     spot_x.resize(n);
     spot_y.resize(n);
-    step.resize(n);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      Eigen::Vector2d q0 = Eigen::Vector2d::Zero();
-      ok[i] = predictor.jointsAndInverseJacobian(x[i], q0, step[i]) ? 1 : 0;
-      if (!ok[i])
-      {
-        step[i].setZero();
-      }
-      q_x[i] = q0.x();
-      q_y[i] = q0.y();
-    }
+    m00.resize(n);
+    m01.resize(n);
+    m10.resize(n);
+    m11.resize(n);
+    predictor.predictBlock(n, x, y, q_x.data(), q_y.data(), m00.data(), m01.data(), m10.data(), m11.data(), ok);
     // The step is taken even where q⁰ is already within the tolerance (about 1 point in 20): it
     // costs nothing (the second trace is done for the block anyway) and leaves ~1e-16 m.
     const double tolerance = optics.config().newton_tolerance_m;
     optics.traceBlock(n, q_x.data(), q_y.data(), spot_x.data(), spot_y.data());
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      const double e_x = x[i].x() - spot_x[i];
-      const double e_y = x[i].y() - spot_y[i];
-      const Eigen::Matrix2d& m = step[i];
-      q_x[i] += m(0, 0) * e_x + m(0, 1) * e_y;
-      q_y[i] += m(1, 0) * e_x + m(1, 1) * e_y;
-    }
+    newtonStep(n, x, y, spot_x.data(), spot_y.data(), m00.data(), m01.data(), m10.data(), m11.data(), q_x.data(),
+               q_y.data());
     optics.traceBlock(n, q_x.data(), q_y.data(), spot_x.data(), spot_y.data());
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      const double e_x = x[i].x() - spot_x[i];
-      const double e_y = x[i].y() - spot_y[i];
-      // the criterion of OpticalModel::inverse, |error| <= tol (false for NaN: a ray that failed)
-      ok[i] = (ok[i] == 1 && std::sqrt(e_x * e_x + e_y * e_y) <= tolerance) ? 2 : 0;
-    }
     const double lo = optics.geometry().joint_lower_rad;
     const double hi = optics.geometry().joint_upper_rad;
     for (std::size_t i = 0; i < n; ++i)
     {
-      q[i] = Eigen::Vector2d(q_x[i], q_y[i]);
+      const double e_x = x[i] - spot_x[i];
+      const double e_y = y[i] - spot_y[i];
+      // the criterion of OpticalModel::inverse, |error| <= tol (false for NaN: a ray that failed)
+      const bool converged = ok[i] == 1 && std::sqrt(e_x * e_x + e_y * e_y) <= tolerance;
       const bool inside = q_x[i] >= lo && q_x[i] <= hi && q_y[i] >= lo && q_y[i] <= hi;
-      ok[i] = (ok[i] == 2 && inside) ? 1 : 0;
-      if (!std::isfinite(q_x[i]) || !std::isfinite(q_y[i]))
-      {
-        q[i].setZero();
-      }
+      ok[i] = (converged && inside) ? 1 : 0;
+      const bool finite = std::isfinite(q_x[i]) && std::isfinite(q_y[i]);
+      q[i] = finite ? Eigen::Vector2d(q_x[i], q_y[i]) : Eigen::Vector2d::Zero();
     }
   }
 };
@@ -197,10 +194,10 @@ struct NcInterpolator::State
   std::vector<PlaneState> filt2;
   std::vector<Eigen::Vector2d> igt_point;
   std::vector<Eigen::Vector2d> q_igt;
-  std::vector<std::size_t> distinct;        ///< samples whose IGT point differs from the one before
-  std::vector<Eigen::Vector2d> distinct_x;  ///< their points
-  std::vector<Eigen::Vector2d> distinct_q;  ///< their solutions
-  std::vector<unsigned char> distinct_ok;   ///< accepted by the block IGT
+  std::vector<std::size_t> distinct;           ///< samples whose IGT point differs from the one before
+  std::vector<double> distinct_x, distinct_y;  ///< their points [m]
+  std::vector<Eigen::Vector2d> distinct_q;     ///< their solutions
+  std::vector<unsigned char> distinct_ok;      ///< accepted by the block IGT
   // per sample of the chunk, fixed filters: Q_filt1 and its velocity, s and ṡ, FIR T2's output and
   // derivative, and the plane filters (power ∝ speed)
   std::vector<Eigen::Vector2d> q_filt1, q_filt1_dot;
@@ -438,25 +435,33 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
   // accept by the scalar Newton from its last iterate. Without it: each warm-started from the
   // linear extrapolation 2·q_{n−1} − q_{n−2} of the previous solutions (O(q̈·Ts²) off).
   auto solveChunk = [&](std::size_t count_) {
-    st.distinct.clear();
-    st.distinct_x.clear();
-    Eigen::Vector2d previous = st.x_prev;
+    st.distinct.resize(count_);
+    st.distinct_x.resize(count_);
+    st.distinct_y.resize(count_);
+    std::size_t m = 0;
+    double previous_x = st.x_prev.x();
+    double previous_y = st.x_prev.y();
     for (std::size_t i = 0; i < count_; ++i)
     {
-      if (!(st.igt_point[i] == previous))
+      const double x = st.igt_point[i].x();
+      const double y = st.igt_point[i].y();
+      if (!(x == previous_x && y == previous_y))
       {
-        previous = st.igt_point[i];
-        st.distinct.push_back(i);
-        st.distinct_x.push_back(previous);
+        previous_x = x;
+        previous_y = y;
+        st.distinct[m] = i;
+        st.distinct_x[m] = x;
+        st.distinct_y[m] = y;
+        ++m;
       }
     }
-    const std::size_t m = st.distinct.size();
     st.distinct_q.resize(m);
     st.distinct_ok.assign(m, 0);
     const bool block = !igt_->use_table && igt_->have_predictor;
     if (block && m > 0)
     {
-      igt_->solveBlock(optics_, m, st.distinct_x.data(), st.distinct_q.data(), st.distinct_ok.data());
+      igt_->solveBlock(optics_, m, st.distinct_x.data(), st.distinct_y.data(), st.distinct_q.data(),
+                       st.distinct_ok.data());
     }
     std::size_t d = 0;
     Eigen::Vector2d q_prev = st.q_prev;
@@ -468,16 +473,16 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
       {
         const std::uint64_t n = st.next + i;
         const double t_s = static_cast<double>(n) * ts;
+        const Eigen::Vector2d x(st.distinct_x[d], st.distinct_y[d]);
         if (block)
         {
-          q = st.distinct_ok[d] ? st.distinct_q[d]
-                                : solveOrAbandon(st.distinct_x[d], st.distinct_q[d], n, t_s, "path point");
+          q = st.distinct_ok[d] ? st.distinct_q[d] : solveOrAbandon(x, st.distinct_q[d], n, t_s, "path point");
         }
         else
         {
-          q = solveOrAbandon(st.distinct_x[d], 2.0 * q_prev - q_prev2, n, t_s, "path point");
+          q = solveOrAbandon(x, 2.0 * q_prev - q_prev2, n, t_s, "path point");
         }
-        st.x_prev = st.distinct_x[d];
+        st.x_prev = x;
         ++d;
       }
       st.q_igt[i] = q;
@@ -527,7 +532,9 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
       st.limiter.step(st.q_filt1[i], st.q_filt1_dot[i], s, s_dot);
       st.s_and_rate[i] << s, s_dot;
     }
-    st.fir2.pushBlock(st.s_and_rate.data(), count, st.filt2_average.data(), st.filt2_derivative.data());
+    // (the average of ṡ is not used; with T2 = 0 the average of s neither)
+    st.fir2.pushBlock(st.s_and_rate.data(), count, st.filt2_average.data(), st.filt2_derivative.data(),
+                      t2_identity ? 0 : 2);
     if (speed_power)
     {
       // the same filters on X_inter: the plane speed of the filtered path
@@ -535,105 +542,161 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
       st.plane_average2.resize(count);
       st.plane_derivative.resize(count);
       st.plane_fir1.pushBlock(st.x_inter.data(), count, st.plane_average.data(), nullptr);
-      st.plane_fir2.pushBlock(st.plane_average.data(), count, st.plane_average2.data(), st.plane_derivative.data());
+      st.plane_fir2.pushBlock(st.plane_average.data(), count, st.plane_average2.data(), st.plane_derivative.data(), 0);
     }
   }
 
-  for (std::size_t i = 0; i < count; ++i)
+  SetpointSample* const setpoints = out.setpoint.samples.data();
+  if (!st.adaptive && !config_.debug)
   {
-    const std::uint64_t n = st.next + i;
-    const double t_s = static_cast<double>(n) * ts;
-    const Eigen::Vector2d& x = st.x_inter[i];
-    SetpointSample& sp = out.setpoint.samples[i];
-    double plane_speed = 0.0;
-
-    if (!st.adaptive)
+    // The fixed filters without debug signals: Q_filt2 and its derivatives as the filters give them.
+    for (std::size_t i = 0; i < count; ++i)
     {
-      const Eigen::Vector2d q = st.q_igt[i];
-      st.q_prev2 = st.q_prev;
-      st.q_prev = q;
-      const Eigen::Vector2d s = st.s_and_rate[i].head<2>();
-      sp.position = t2_identity ? s : Eigen::Vector2d(st.filt2_average[i].head<2>());
-      sp.velocity =
-          t2_identity ? Eigen::Vector2d(st.s_and_rate[i].tail<2>()) : Eigen::Vector2d(st.filt2_derivative[i].head<2>());
-      sp.acceleration = st.filt2_derivative[i].tail<2>();
-      if (speed_power)
+      SetpointSample& sp = setpoints[i];
+      const Eigen::Vector4d& derivative = st.filt2_derivative[i];
+      if (t2_identity)
       {
-        plane_speed = st.plane_derivative[i].norm();
+        sp.position = st.s_and_rate[i].head<2>();
+        sp.velocity = st.s_and_rate[i].tail<2>();
       }
-      if (config_.debug)
+      else
       {
-        NcDebugSample& dbg = out.debug.samples[i];
-        dbg.x_inter = x;
-        dbg.q_inter = q;
-        dbg.q_inter_velocity = (q - st.q_prev2) / ts;
-        dbg.q_inter_acceleration = (q - 2.0 * st.q_prev2 + st.q_inter_prev2) / (ts * ts);
-        st.q_inter_prev2 = st.q_prev2;
-        st.inter_rate_fir1.push(dbg.q_inter_velocity);
-        dbg.q_filt1 = st.q_filt1[i];
-        dbg.q_filt1_velocity = st.q_filt1_dot[i];
-        dbg.q_filt1_acceleration = st.inter_rate_fir1.derivative();
+        sp.position = st.filt2_average[i].head<2>();
+        sp.velocity = derivative.head<2>();
       }
+      sp.acceleration = derivative.tail<2>();
+      st.plane_speeds[i] = speed_power ? st.plane_derivative[i].norm() : 0.0;
     }
-    else
+    if (count > 0)
     {
-      const PlaneState& filt2 = st.filt2[i];
-      const Eigen::Vector2d q = st.q_igt[i];
-      st.q_prev2 = st.q_prev;
-      st.q_prev = q;
-      const Eigen::Matrix2d inverse_jacobian = optics_.jacobian(q).inverse();
-      sp.position = q;
-      sp.velocity = inverse_jacobian * filt2.velocity;
-      sp.acceleration = inverse_jacobian * (filt2.acceleration - jacobianRateTimesVelocity(optics_, q, sp.velocity));
-      plane_speed = filt2.velocity.norm();
-      if (config_.debug)
-      {
-        NcDebugSample& dbg = out.debug.samples[i];
-        const PlaneState filt1 = st.adaptive_fir.firstStage(t_s, st.filt1_cursor);
-        dbg.x_inter = x;
-        dbg.q_inter = solveOrAbandon(x, st.q_inter_prev, n, t_s, "debug point");
-        dbg.q_inter_velocity = (dbg.q_inter - st.q_inter_prev) / ts;
-        dbg.q_inter_acceleration = (dbg.q_inter - 2.0 * st.q_inter_prev + st.q_inter_prev2) / (ts * ts);
-        st.q_inter_prev2 = st.q_inter_prev;
-        st.q_inter_prev = dbg.q_inter;
-        dbg.q_filt1 = solveOrAbandon(filt1.position, q, n, t_s, "debug point");
-        const Eigen::Matrix2d filt1_inverse_jacobian = optics_.jacobian(dbg.q_filt1).inverse();
-        dbg.q_filt1_velocity = filt1_inverse_jacobian * filt1.velocity;
-        dbg.q_filt1_acceleration =
-            filt1_inverse_jacobian *
-            (filt1.acceleration - jacobianRateTimesVelocity(optics_, dbg.q_filt1, dbg.q_filt1_velocity));
-      }
+      st.q_prev2 = count > 1 ? st.q_igt[count - 2] : st.q_prev;
+      st.q_prev = st.q_igt[count - 1];
     }
-
-    if (config_.quantisation_bits > 0)
+  }
+  else
+  {
+    for (std::size_t i = 0; i < count; ++i)
     {
-      // XY2-100: an unsigned word over the mechanical range; the servo gets the nearest code.
-      const double lower = optics_.geometry().joint_lower_rad;
-      const double codes = std::ldexp(1.0, config_.quantisation_bits) - 1.0;
-      const double lsb = (optics_.geometry().joint_upper_rad - lower) / codes;
+      const std::uint64_t n = st.next + i;
+      const double t_s = static_cast<double>(n) * ts;
+      const Eigen::Vector2d& x = st.x_inter[i];
+      SetpointSample& sp = out.setpoint.samples[i];
+      double plane_speed = 0.0;
+
+      if (!st.adaptive)
+      {
+        const Eigen::Vector2d q = st.q_igt[i];
+        st.q_prev2 = st.q_prev;
+        st.q_prev = q;
+        const Eigen::Vector2d s = st.s_and_rate[i].head<2>();
+        sp.position = t2_identity ? s : Eigen::Vector2d(st.filt2_average[i].head<2>());
+        sp.velocity = t2_identity ? Eigen::Vector2d(st.s_and_rate[i].tail<2>())
+                                  : Eigen::Vector2d(st.filt2_derivative[i].head<2>());
+        sp.acceleration = st.filt2_derivative[i].tail<2>();
+        if (speed_power)
+        {
+          plane_speed = st.plane_derivative[i].norm();
+        }
+        if (config_.debug)
+        {
+          NcDebugSample& dbg = out.debug.samples[i];
+          dbg.x_inter = x;
+          dbg.q_inter = q;
+          dbg.q_inter_velocity = (q - st.q_prev2) / ts;
+          dbg.q_inter_acceleration = (q - 2.0 * st.q_prev2 + st.q_inter_prev2) / (ts * ts);
+          st.q_inter_prev2 = st.q_prev2;
+          st.inter_rate_fir1.push(dbg.q_inter_velocity);
+          dbg.q_filt1 = st.q_filt1[i];
+          dbg.q_filt1_velocity = st.q_filt1_dot[i];
+          dbg.q_filt1_acceleration = st.inter_rate_fir1.derivative();
+        }
+      }
+      else
+      {
+        const PlaneState& filt2 = st.filt2[i];
+        const Eigen::Vector2d q = st.q_igt[i];
+        st.q_prev2 = st.q_prev;
+        st.q_prev = q;
+        const Eigen::Matrix2d inverse_jacobian = optics_.jacobian(q).inverse();
+        sp.position = q;
+        sp.velocity = inverse_jacobian * filt2.velocity;
+        sp.acceleration = inverse_jacobian * (filt2.acceleration - jacobianRateTimesVelocity(optics_, q, sp.velocity));
+        plane_speed = filt2.velocity.norm();
+        if (config_.debug)
+        {
+          NcDebugSample& dbg = out.debug.samples[i];
+          const PlaneState filt1 = st.adaptive_fir.firstStage(t_s, st.filt1_cursor);
+          dbg.x_inter = x;
+          dbg.q_inter = solveOrAbandon(x, st.q_inter_prev, n, t_s, "debug point");
+          dbg.q_inter_velocity = (dbg.q_inter - st.q_inter_prev) / ts;
+          dbg.q_inter_acceleration = (dbg.q_inter - 2.0 * st.q_inter_prev + st.q_inter_prev2) / (ts * ts);
+          st.q_inter_prev2 = st.q_inter_prev;
+          st.q_inter_prev = dbg.q_inter;
+          dbg.q_filt1 = solveOrAbandon(filt1.position, q, n, t_s, "debug point");
+          const Eigen::Matrix2d filt1_inverse_jacobian = optics_.jacobian(dbg.q_filt1).inverse();
+          dbg.q_filt1_velocity = filt1_inverse_jacobian * filt1.velocity;
+          dbg.q_filt1_acceleration =
+              filt1_inverse_jacobian *
+              (filt1.acceleration - jacobianRateTimesVelocity(optics_, dbg.q_filt1, dbg.q_filt1_velocity));
+        }
+      }
+
+      st.plane_speeds[i] = plane_speed;
+    }
+  }
+
+  if (config_.quantisation_bits > 0)
+  {
+    // XY2-100: an unsigned word over the mechanical range; the servo gets the nearest code.
+    const double lower = optics_.geometry().joint_lower_rad;
+    const double codes = std::ldexp(1.0, config_.quantisation_bits) - 1.0;
+    const double lsb = (optics_.geometry().joint_upper_rad - lower) / codes;
+    for (std::size_t i = 0; i < count; ++i)
+    {
       for (int a = 0; a < 2; ++a)
       {
-        const double code = std::min(codes, std::max(0.0, std::round((sp.position[a] - lower) / lsb)));
-        sp.position[a] = lower + code * lsb;
+        double& position = setpoints[i].position[a];
+        const double code = std::min(codes, std::max(0.0, std::round((position - lower) / lsb)));
+        position = lower + code * lsb;
       }
     }
+  }
 
-    // Limits on Q_filt2 (reported; the adaptive filter and cap_speeds are built to respect them).
-    const Eigen::Vector2d jerk = (sp.acceleration - st.accel_prev) / ts;
-    st.accel_prev = sp.acceleration;
-    bool over_accel = false;
-    bool over_jerk = false;
+  // Limits on Q_filt2 (reported; the adaptive filter and cap_speeds are built to respect them).
+  {
+    const double accel_limit = config_.max_joint_accel_radps2 * kLimitSlack;
+    const double jerk_limit = config_.max_joint_jerk_radps3 * kLimitSlack;
+    double max_accel[2] = {st.stats.max_accel_radps2[0], st.stats.max_accel_radps2[1]};
+    double max_jerk[2] = {st.stats.max_jerk_radps3[0], st.stats.max_jerk_radps3[1]};
+    double previous[2] = {st.accel_prev[0], st.accel_prev[1]};
+    std::uint64_t over_accel_samples = 0;
+    std::uint64_t over_jerk_samples = 0;
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      const Eigen::Vector2d& acceleration = setpoints[i].acceleration;
+      bool over_accel = false;
+      bool over_jerk = false;
+      for (int a = 0; a < 2; ++a)
+      {
+        const double accel = std::abs(acceleration[a]);
+        const double jerk = std::abs((acceleration[a] - previous[a]) / ts);
+        previous[a] = acceleration[a];
+        max_accel[a] = std::max(max_accel[a], accel);
+        max_jerk[a] = std::max(max_jerk[a], jerk);
+        over_accel = over_accel || accel > accel_limit;
+        over_jerk = over_jerk || jerk > jerk_limit;
+      }
+      over_accel_samples += over_accel ? 1 : 0;
+      over_jerk_samples += over_jerk ? 1 : 0;
+    }
     for (int a = 0; a < 2; ++a)
     {
-      st.stats.max_accel_radps2[a] = std::max(st.stats.max_accel_radps2[a], std::abs(sp.acceleration[a]));
-      st.stats.max_jerk_radps3[a] = std::max(st.stats.max_jerk_radps3[a], std::abs(jerk[a]));
-      over_accel = over_accel || std::abs(sp.acceleration[a]) > config_.max_joint_accel_radps2 * kLimitSlack;
-      over_jerk = over_jerk || std::abs(jerk[a]) > config_.max_joint_jerk_radps3 * kLimitSlack;
+      st.stats.max_accel_radps2[a] = max_accel[a];
+      st.stats.max_jerk_radps3[a] = max_jerk[a];
+      st.accel_prev[a] = previous[a];
     }
-    st.stats.samples_over_accel += over_accel ? 1 : 0;
-    st.stats.samples_over_jerk += over_jerk ? 1 : 0;
-
-    st.plane_speeds[i] = plane_speed;
+    st.stats.samples_over_accel += over_accel_samples;
+    st.stats.samples_over_jerk += over_jerk_samples;
   }
 
   if (st.predictor)

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -150,60 +151,109 @@ CorrectionTable CorrectionTable::build(const OpticalModel& optics, int nodes, do
   return table;
 }
 
+/// The cell of a point inside the table and the Hermite bicubic patch there (the scheme on
+/// CorrectionTable); one routine for joints(), jointsAndInverseJacobian() and predictBlock(), so
+/// that all three give the same bits.
+struct CorrectionTable::Cell
+{
+  const Node* n00;
+  const Node* n10;
+  const Node* n01;
+  const Node* n11;
+  double u;
+  double v;
+
+  Cell(const CorrectionTable& t, double x, double y)
+  {
+    // Cell (i, j) and local coordinates (u, v) in [0, 1].
+    const int last_cell = t.nodes_ - 2;
+    const double tx = (x + t.half_width_m_) * t.inv_spacing_;
+    const double ty = (y + t.half_width_m_) * t.inv_spacing_;
+    int i = static_cast<int>(tx);
+    int j = static_cast<int>(ty);
+    i = i < 0 ? 0 : (i > last_cell ? last_cell : i);
+    j = j < 0 ? 0 : (j > last_cell ? last_cell : j);
+    u = tx - i;
+    v = ty - j;
+    n00 = &t.node_[t.index(i, j)];
+    n10 = n00 + 1;
+    n01 = &t.node_[t.index(i, j + 1)];
+    n11 = n01 + 1;
+  }
+
+  void bilinearWeights(double& w00, double& w10, double& w01, double& w11) const
+  {
+    w00 = (1.0 - u) * (1.0 - v);
+    w10 = u * (1.0 - v);
+    w01 = (1.0 - u) * v;
+    w11 = u * v;
+  }
+
+  void bicubic(double s, double out[2]) const
+  {
+    // Hermite basis: value weights phi, slope weights psi (already scaled by the spacing s).
+    const double u2 = u * u;
+    const double u3 = u2 * u;
+    const double v2 = v * v;
+    const double v3 = v2 * v;
+    const double pu1 = 3.0 * u2 - 2.0 * u3;
+    const double pu0 = 1.0 - pu1;
+    const double su0 = (u - 2.0 * u2 + u3) * s;
+    const double su1 = (u3 - u2) * s;
+    const double pv1 = 3.0 * v2 - 2.0 * v3;
+    const double pv0 = 1.0 - pv1;
+    const double sv0 = (v - 2.0 * v2 + v3) * s;
+    const double sv1 = (v3 - v2) * s;
+    // Both joints at once, one per lane: the same operations per lane as a scalar loop over them.
+    const Pair row0 =
+        pu0 * (pv0 * pair(n00->q) + sv0 * pair(n00->q_y)) + su0 * (pv0 * pair(n00->q_x) + sv0 * pair(n00->q_xy)) +
+        pu1 * (pv0 * pair(n10->q) + sv0 * pair(n10->q_y)) + su1 * (pv0 * pair(n10->q_x) + sv0 * pair(n10->q_xy));
+    const Pair row1 =
+        pu0 * (pv1 * pair(n01->q) + sv1 * pair(n01->q_y)) + su0 * (pv1 * pair(n01->q_x) + sv1 * pair(n01->q_xy)) +
+        pu1 * (pv1 * pair(n11->q) + sv1 * pair(n11->q_y)) + su1 * (pv1 * pair(n11->q_x) + sv1 * pair(n11->q_xy));
+    const Pair sum = row0 + row1;
+    std::memcpy(out, &sum, sizeof sum);
+  }
+
+  /// Bilinear interpolation of the nodes' ∂q/∂x: dq_dx[row c][column a] = m[2c + a].
+  void inverseJacobian(double m[4]) const
+  {
+    double w00, w10, w01, w11;
+    bilinearWeights(w00, w10, w01, w11);
+    const Pair column_x = w00 * pair(n00->q_x) + w10 * pair(n10->q_x) + w01 * pair(n01->q_x) + w11 * pair(n11->q_x);
+    const Pair column_y = w00 * pair(n00->q_y) + w10 * pair(n10->q_y) + w01 * pair(n01->q_y) + w11 * pair(n11->q_y);
+    m[0] = column_x[0];
+    m[1] = column_y[0];
+    m[2] = column_x[1];
+    m[3] = column_y[1];
+  }
+
+  /// Two doubles as one SSE2 vector (GCC vector extension: lane-wise IEEE operations).
+  typedef double Pair __attribute__((vector_size(16)));
+  static Pair pair(const double (&a)[2])
+  {
+    Pair p;
+    std::memcpy(&p, a, sizeof p);
+    return p;
+  }
+};
+
 Eigen::Vector2d CorrectionTable::joints(const Eigen::Vector2d& spot_m, TableInterpolation interpolation) const
 {
   const double h = half_width_m_;
   const double limit = h + kEdgeTolerance_m;
   if (!(std::abs(spot_m.x()) <= limit && std::abs(spot_m.y()) <= limit))
     throwOutside(spot_m, h);
-  // Cell (i, j) and local coordinates (u, v) in [0, 1].
-  const int last_cell = nodes_ - 2;
-  const double tx = (spot_m.x() + h) * inv_spacing_;
-  const double ty = (spot_m.y() + h) * inv_spacing_;
-  int i = static_cast<int>(tx);
-  int j = static_cast<int>(ty);
-  i = i < 0 ? 0 : (i > last_cell ? last_cell : i);
-  j = j < 0 ? 0 : (j > last_cell ? last_cell : j);
-  const double u = tx - i;
-  const double v = ty - j;
-  const Node& n00 = node_[index(i, j)];
-  const Node& n10 = node_[index(i, j) + 1];
-  const Node& n01 = node_[index(i, j + 1)];
-  const Node& n11 = node_[index(i, j + 1) + 1];
-
+  const Cell cell(*this, spot_m.x(), spot_m.y());
   if (interpolation == TableInterpolation::Bilinear)
   {
-    const double w00 = (1.0 - u) * (1.0 - v);
-    const double w10 = u * (1.0 - v);
-    const double w01 = (1.0 - u) * v;
-    const double w11 = u * v;
-    return Eigen::Vector2d(w00 * n00.q[0] + w10 * n10.q[0] + w01 * n01.q[0] + w11 * n11.q[0],
-                           w00 * n00.q[1] + w10 * n10.q[1] + w01 * n01.q[1] + w11 * n11.q[1]);
+    double w00, w10, w01, w11;
+    cell.bilinearWeights(w00, w10, w01, w11);
+    return Eigen::Vector2d(w00 * cell.n00->q[0] + w10 * cell.n10->q[0] + w01 * cell.n01->q[0] + w11 * cell.n11->q[0],
+                           w00 * cell.n00->q[1] + w10 * cell.n10->q[1] + w01 * cell.n01->q[1] + w11 * cell.n11->q[1]);
   }
-
-  // Hermite basis: value weights phi, slope weights psi (already scaled by the spacing).
-  const double s = spacing_m_;
-  const double u2 = u * u;
-  const double u3 = u2 * u;
-  const double v2 = v * v;
-  const double v3 = v2 * v;
-  const double pu1 = 3.0 * u2 - 2.0 * u3;
-  const double pu0 = 1.0 - pu1;
-  const double su0 = (u - 2.0 * u2 + u3) * s;
-  const double su1 = (u3 - u2) * s;
-  const double pv1 = 3.0 * v2 - 2.0 * v3;
-  const double pv0 = 1.0 - pv1;
-  const double sv0 = (v - 2.0 * v2 + v3) * s;
-  const double sv1 = (v3 - v2) * s;
   double out[2];
-  for (int c = 0; c < 2; ++c)
-  {
-    const double row0 = pu0 * (pv0 * n00.q[c] + sv0 * n00.q_y[c]) + su0 * (pv0 * n00.q_x[c] + sv0 * n00.q_xy[c]) +
-                        pu1 * (pv0 * n10.q[c] + sv0 * n10.q_y[c]) + su1 * (pv0 * n10.q_x[c] + sv0 * n10.q_xy[c]);
-    const double row1 = pu0 * (pv1 * n01.q[c] + sv1 * n01.q_y[c]) + su0 * (pv1 * n01.q_x[c] + sv1 * n01.q_xy[c]) +
-                        pu1 * (pv1 * n11.q[c] + sv1 * n11.q_y[c]) + su1 * (pv1 * n11.q_x[c] + sv1 * n11.q_xy[c]);
-    out[c] = row0 + row1;
-  }
+  cell.bicubic(spacing_m_, out);
   return Eigen::Vector2d(out[0], out[1]);
 }
 
@@ -214,31 +264,42 @@ bool CorrectionTable::jointsAndInverseJacobian(const Eigen::Vector2d& spot_m, Ei
   const double limit = h + kEdgeTolerance_m;
   if (!(std::abs(spot_m.x()) <= limit && std::abs(spot_m.y()) <= limit) || nodes_ < 2)
     return false;
-  q = joints(spot_m, TableInterpolation::Bicubic);
-  // The same cell and (u, v) as joints().
-  const int last_cell = nodes_ - 2;
-  const double tx = (spot_m.x() + h) * inv_spacing_;
-  const double ty = (spot_m.y() + h) * inv_spacing_;
-  int i = static_cast<int>(tx);
-  int j = static_cast<int>(ty);
-  i = i < 0 ? 0 : (i > last_cell ? last_cell : i);
-  j = j < 0 ? 0 : (j > last_cell ? last_cell : j);
-  const double u = tx - i;
-  const double v = ty - j;
-  const Node& n00 = node_[index(i, j)];
-  const Node& n10 = node_[index(i, j) + 1];
-  const Node& n01 = node_[index(i, j + 1)];
-  const Node& n11 = node_[index(i, j + 1) + 1];
-  const double w00 = (1.0 - u) * (1.0 - v);
-  const double w10 = u * (1.0 - v);
-  const double w01 = (1.0 - u) * v;
-  const double w11 = u * v;
-  for (int c = 0; c < 2; ++c)
-  {
-    dq_dx(c, 0) = w00 * n00.q_x[c] + w10 * n10.q_x[c] + w01 * n01.q_x[c] + w11 * n11.q_x[c];
-    dq_dx(c, 1) = w00 * n00.q_y[c] + w10 * n10.q_y[c] + w01 * n01.q_y[c] + w11 * n11.q_y[c];
-  }
+  const Cell cell(*this, spot_m.x(), spot_m.y());
+  double out[2];
+  cell.bicubic(spacing_m_, out);
+  q = Eigen::Vector2d(out[0], out[1]);
+  double m[4];
+  cell.inverseJacobian(m);
+  dq_dx << m[0], m[1], m[2], m[3];
   return true;
+}
+
+void CorrectionTable::predictBlock(std::size_t n, const double* x, const double* y, double* q_x, double* q_y,
+                                   double* m00, double* m01, double* m10, double* m11, unsigned char* ok) const
+{
+  const double limit = half_width_m_ + kEdgeTolerance_m;
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    if (!(std::abs(x[k]) <= limit && std::abs(y[k]) <= limit) || nodes_ < 2)
+    {
+      q_x[k] = q_y[k] = 0.0;
+      m00[k] = m01[k] = m10[k] = m11[k] = 0.0;
+      ok[k] = 0;
+      continue;
+    }
+    const Cell cell(*this, x[k], y[k]);
+    double out[2];
+    cell.bicubic(spacing_m_, out);
+    double m[4];
+    cell.inverseJacobian(m);
+    q_x[k] = out[0];
+    q_y[k] = out[1];
+    m00[k] = m[0];
+    m01[k] = m[1];
+    m10[k] = m[2];
+    m11[k] = m[3];
+    ok[k] = 1;
+  }
 }
 
 void CorrectionTable::save(const std::string& path) const

@@ -39,43 +39,39 @@ SpotChunk OpticalChainStage::process(const SetpointChunk& setpoint, const JointC
   SpotChunk out;
   out.first_index = setpoint.first_index;
   out.period_s = setpoint.period_s;
-  out.samples.resize(n);
+  out.samples.reserve(n);
   // Both traces in blocks of kBlock rays, structure of arrays (OpticalModel::traceBlock:
-  // bit-identical to trace() ray by ray); a failed ray is traced again alone for its error.
+  // bit-identical to trace() ray by ray); a failed ray is traced again alone for its error. Each
+  // sample is then written once, whole (no default construction first).
   constexpr std::size_t kBlock = 256;
-  double q_x[kBlock], q_y[kBlock], s_x[kBlock], s_y[kBlock], d_x[kBlock], d_y[kBlock], d_z[kBlock];
+  double a_x[kBlock], a_y[kBlock], s_x[kBlock], s_y[kBlock], d_x[kBlock], d_y[kBlock], d_z[kBlock];
+  double qa_x[kBlock], qa_y[kBlock], qs_x[kBlock], qs_y[kBlock];
   for (std::size_t begin = 0; begin < n; begin += kBlock)
   {
     const std::size_t m = std::min(kBlock, n - begin);
+    const JointSample* const actual = joints.samples.data() + begin;
+    const SetpointSample* const commanded = setpoint.samples.data() + begin;
     for (std::size_t i = 0; i < m; ++i)
     {
-      const Eigen::Vector2d& q = joints.samples[begin + i].position;
-      q_x[i] = q.x();
-      q_y[i] = q.y();
+      qa_x[i] = actual[i].position.x();
+      qa_y[i] = actual[i].position.y();
+      qs_x[i] = commanded[i].position.x();
+      qs_y[i] = commanded[i].position.y();
     }
-    if (optics_.traceBlock(m, q_x, q_y, s_x, s_y, d_x, d_y, d_z) > 0)
+    if (optics_.traceBlock(m, qa_x, qa_y, a_x, a_y, d_x, d_y, d_z) > 0)
     {
-      rethrowFirstFailure(optics_, m, q_x, q_y, s_x);
+      rethrowFirstFailure(optics_, m, qa_x, qa_y, a_x);
     }
+    if (optics_.traceBlock(m, qs_x, qs_y, s_x, s_y) > 0)
+    {
+      rethrowFirstFailure(optics_, m, qs_x, qs_y, s_x);
+    }
+    const LaserSample* const power = laser.samples.data() + begin;
     for (std::size_t i = 0; i < m; ++i)
     {
-      SpotSample& s = out.samples[begin + i];
-      s.actual = Eigen::Vector2d(s_x[i], s_y[i]);
-      s.direction = Eigen::Vector3d(d_x[i], d_y[i], d_z[i]);
-      const Eigen::Vector2d& q = setpoint.samples[begin + i].position;
-      q_x[i] = q.x();
-      q_y[i] = q.y();
-    }
-    if (optics_.traceBlock(m, q_x, q_y, s_x, s_y) > 0)
-    {
-      rethrowFirstFailure(optics_, m, q_x, q_y, s_x);
-    }
-    for (std::size_t i = 0; i < m; ++i)
-    {
-      SpotSample& s = out.samples[begin + i];
-      s.setpoint = Eigen::Vector2d(s_x[i], s_y[i]);
-      s.angle_error = setpoint.samples[begin + i].position - joints.samples[begin + i].position;
-      s.power_w = laser.samples[begin + i].power_w;
+      out.samples.push_back(SpotSample{Eigen::Vector2d(s_x[i], s_y[i]), Eigen::Vector2d(a_x[i], a_y[i]),
+                                       Eigen::Vector3d(d_x[i], d_y[i], d_z[i]),
+                                       Eigen::Vector2d(qs_x[i] - qa_x[i], qs_y[i] - qa_y[i]), power[i].power_w});
     }
   }
   return out;

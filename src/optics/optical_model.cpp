@@ -7,6 +7,9 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "scanhead/common/errors.hpp"
 
@@ -259,13 +262,29 @@ SCANHEAD_INLINE double sqrtOf(double x)
 }
 SCANHEAD_INLINE Lanes sqrtOf(Lanes x)
 {
-  // Correctly rounded like std::sqrt (IEEE 754 sqrt), lane by lane; NaN for negative lanes.
+  // IEEE 754 sqrt is correctly rounded, so the packed instruction gives std::sqrt's bits lane by
+  // lane (NaN for a negative lane, whose ray has failed anyway); unlike std::sqrt it has no errno
+  // path, which kept the lane loop scalar with a libm call per lane.
+#if defined(__SSE2__)
+  // halves through registers (a store of two halves and a load of the whole would stall)
+  typedef double Half __attribute__((vector_size(16)));
+  const Half lo = __builtin_shufflevector(x, x, 0, 1);
+  const Half hi = __builtin_shufflevector(x, x, 2, 3);
+  const Half root_lo = reinterpret_cast<Half>(_mm_sqrt_pd(reinterpret_cast<__m128d>(lo)));
+  const Half root_hi = reinterpret_cast<Half>(_mm_sqrt_pd(reinterpret_cast<__m128d>(hi)));
+  return __builtin_shufflevector(root_lo, root_hi, 0, 1, 2, 3);
+#else
   Lanes r;
   for (int i = 0; i < kLanes; ++i)
   {
     r[i] = __builtin_sqrt(x[i] < 0.0 ? std::numeric_limits<double>::quiet_NaN() : x[i]);
   }
   return r;
+#endif
+}
+SCANHEAD_INLINE bool anyOf(LaneMask m)
+{
+  return ((m[0] | m[1]) | (m[2] | m[3])) != 0;
 }
 SCANHEAD_INLINE double selectOf(bool m, double a, double b)
 {
@@ -274,6 +293,78 @@ SCANHEAD_INLINE double selectOf(bool m, double a, double b)
 SCANHEAD_INLINE Lanes selectOf(LaneMask m, Lanes a, Lanes b)
 {
   return m ? a : b;
+}
+
+/// Two groups of kLanes rays, every operation issued for both: the trace is one long chain of
+/// dependent operations (the sin/cos polynomials, a division per surface, two square roots), so
+/// with one group the pipeline waits on latencies; two interleaved chains fill it. Each lane
+/// still sees the same IEEE operations in the same order as trace().
+struct Lanes2
+{
+  Lanes a, b;
+};
+struct Mask2
+{
+  LaneMask a, b;
+};
+#define SCANHEAD_LANES2_OP(op)                                         \
+  SCANHEAD_INLINE Lanes2 operator op(const Lanes2& x, const Lanes2& y) \
+  {                                                                    \
+    return {x.a op y.a, x.b op y.b};                                   \
+  }                                                                    \
+  SCANHEAD_INLINE Lanes2 operator op(const Lanes2& x, double y)        \
+  {                                                                    \
+    return {x.a op y, x.b op y};                                       \
+  }                                                                    \
+  SCANHEAD_INLINE Lanes2 operator op(double x, const Lanes2& y)        \
+  {                                                                    \
+    return {x op y.a, x op y.b};                                       \
+  }
+SCANHEAD_LANES2_OP(+)
+SCANHEAD_LANES2_OP(-)
+SCANHEAD_LANES2_OP(*)
+SCANHEAD_LANES2_OP(/)
+#undef SCANHEAD_LANES2_OP
+#define SCANHEAD_LANES2_CMP(op)                                \
+  SCANHEAD_INLINE Mask2 operator op(const Lanes2& x, double y) \
+  {                                                            \
+    return {x.a op y, x.b op y};                               \
+  }
+SCANHEAD_LANES2_CMP(<)
+SCANHEAD_LANES2_CMP(<=)
+SCANHEAD_LANES2_CMP(>)
+SCANHEAD_LANES2_CMP(>=)
+#undef SCANHEAD_LANES2_CMP
+SCANHEAD_INLINE Lanes2 operator-(const Lanes2& x)
+{
+  return {-x.a, -x.b};
+}
+SCANHEAD_INLINE Lanes2& operator*=(Lanes2& x, const Lanes2& y)
+{
+  x = x * y;
+  return x;
+}
+SCANHEAD_INLINE Mask2 operator!(const Mask2& m)
+{
+  return {!m.a, !m.b};
+}
+SCANHEAD_INLINE Mask2& operator|=(Mask2& m, const Mask2& n)
+{
+  m.a |= n.a;
+  m.b |= n.b;
+  return m;
+}
+SCANHEAD_INLINE Lanes2 absOf(const Lanes2& x)
+{
+  return {absOf(x.a), absOf(x.b)};
+}
+SCANHEAD_INLINE Lanes2 sqrtOf(const Lanes2& x)
+{
+  return {sqrtOf(x.a), sqrtOf(x.b)};
+}
+SCANHEAD_INLINE Lanes2 selectOf(const Mask2& m, const Lanes2& x, const Lanes2& y)
+{
+  return {m.a ? x.a : y.a, m.b ? x.b : y.b};
 }
 
 /// Failure policy: the scalar trace throws at the first bad surface (as traceImpl does); the
@@ -296,18 +387,19 @@ struct ThrowOnFailure
   }
 };
 
+template <typename M>
 struct RecordFailure
 {
-  LaneMask failed{};
-  void miss(LaneMask bad, const char*) { failed |= bad; }
-  void totalReflection(LaneMask bad, const char*) { failed |= bad; }
+  M failed{};
+  void miss(M bad, const char*) { failed |= bad; }
+  void totalReflection(M bad, const char*) { failed |= bad; }
 };
 
-/// sin and cos of each lane with the scalar sinCos() polynomial (same operations); lanes with
-/// |x| > 0.25 through libm, as sinCos() does.
-SCANHEAD_INLINE void sinCos(Lanes x, Lanes& s, Lanes& c)
+/// The sinCos() polynomials on a number type T (Lanes, Lanes2): the same operations lane by lane.
+template <typename T>
+SCANHEAD_INLINE void sinCosPolynomial(const T& x, T& s, T& c)
 {
-  const Lanes z = x * x;
+  const T z = x * x;
   s = x + x * z *
               (-1.0 / 6 +
                z * (1.0 / 120 +
@@ -320,9 +412,19 @@ SCANHEAD_INLINE void sinCos(Lanes x, Lanes& s, Lanes& c)
                                                     z * (-1.0 / 3628800 + z * (1.0 / 479001600.0 +
                                                                                z * (-1.0 / 87178291200.0 +
                                                                                     z * (1.0 / 20922789888000.0))))))));
+}
+
+/// Lanes with |x| > 0.25 through libm, as sinCos() does.
+SCANHEAD_INLINE void sinCosOutside(Lanes x, Lanes& s, Lanes& c)
+{
+  const LaneMask outside = !(absOf(x) <= 0.25);
+  if (!anyOf(outside))
+  {
+    return;
+  }
   for (int i = 0; i < kLanes; ++i)
   {
-    if (!(std::abs(x[i]) <= 0.25))
+    if (outside[i] != 0)
     {
       double si;
       double ci;
@@ -331,6 +433,21 @@ SCANHEAD_INLINE void sinCos(Lanes x, Lanes& s, Lanes& c)
       c[i] = ci;
     }
   }
+}
+
+/// sin and cos of each lane with the scalar sinCos() polynomial (same operations); lanes with
+/// |x| > 0.25 through libm, as sinCos() does.
+SCANHEAD_INLINE void sinCos(Lanes x, Lanes& s, Lanes& c)
+{
+  sinCosPolynomial(x, s, c);
+  sinCosOutside(x, s, c);
+}
+
+SCANHEAD_INLINE void sinCos(const Lanes2& x, Lanes2& s, Lanes2& c)
+{
+  sinCosPolynomial(x, s, c);
+  sinCosOutside(x.a, s.a, c.a);
+  sinCosOutside(x.b, s.b, c.b);
 }
 
 /// moveToPlane without derivatives: p += t d with t = ((P - p).n) / (d.n); returns d.n.
@@ -401,42 +518,53 @@ SCANHEAD_INLINE void traceKernel(const detail::TraceSurfaces& g, const T& q_x, c
   direction = V3<T>{dot(g.rt0, d), dot(g.rt1, d), dot(g.rt2, d)};
 }
 
-/// traceKernel over \p n rays (n a multiple of kLanes), kLanes at a time; returns the number of
-/// rays that failed (their outputs are NaN). Cloned for AVX2 (same operations, so same bits).
-__attribute__((target_clones("avx2", "default"))) std::size_t traceLanes(const detail::TraceSurfaces& g, std::size_t n,
-                                                                         const double* q_x, const double* q_y,
-                                                                         double* spot_x, double* spot_y, double* dir_x,
-                                                                         double* dir_y, double* dir_z)
+/// Rays per step of traceLanes: two groups of kLanes (Lanes2).
+constexpr std::size_t kStepRays = 2 * kLanes;
+
+/// traceKernel over \p n rays (n a multiple of kStepRays), kStepRays at a time; returns the
+/// number of rays that failed (their outputs are NaN). Cloned for AVX2 (same operations, so same
+/// bits).
+__attribute__((target_clones("arch=x86-64-v4", "avx2", "default"))) std::size_t traceLanes(
+    const detail::TraceSurfaces& g, std::size_t n, const double* q_x, const double* q_y, double* spot_x, double* spot_y,
+    double* dir_x, double* dir_y, double* dir_z)
 {
   std::size_t failures = 0;
   const Lanes nan = Lanes{} + std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t k = 0; k < n; k += kLanes)
+  auto load = [](const double* p) {
+    Lanes2 v;
+    std::memcpy(&v.a, p, sizeof(Lanes));
+    std::memcpy(&v.b, p + kLanes, sizeof(Lanes));
+    return v;
+  };
+  auto store = [&nan](double* p, const Lanes2& v, const Mask2& failed) {
+    const Lanes a = failed.a ? nan : v.a;
+    const Lanes b = failed.b ? nan : v.b;
+    std::memcpy(p, &a, sizeof(Lanes));
+    std::memcpy(p + kLanes, &b, sizeof(Lanes));
+  };
+  for (std::size_t k = 0; k < n; k += kStepRays)
   {
-    Lanes qx;
-    Lanes qy;
-    std::memcpy(&qx, q_x + k, sizeof(Lanes));
-    std::memcpy(&qy, q_y + k, sizeof(Lanes));
-    RecordFailure fail;
-    Lanes sx;
-    Lanes sy;
-    V3<Lanes> dir;
+    const Lanes2 qx = load(q_x + k);
+    const Lanes2 qy = load(q_y + k);
+    RecordFailure<Mask2> fail;
+    Lanes2 sx;
+    Lanes2 sy;
+    V3<Lanes2> dir;
     traceKernel(g, qx, qy, fail, sx, sy, dir);
-    sx = fail.failed ? nan : sx;
-    sy = fail.failed ? nan : sy;
-    std::memcpy(spot_x + k, &sx, sizeof(Lanes));
-    std::memcpy(spot_y + k, &sy, sizeof(Lanes));
+    store(spot_x + k, sx, fail.failed);
+    store(spot_y + k, sy, fail.failed);
     if (dir_x != nullptr)
     {
-      dir.x = fail.failed ? nan : dir.x;
-      dir.y = fail.failed ? nan : dir.y;
-      dir.z = fail.failed ? nan : dir.z;
-      std::memcpy(dir_x + k, &dir.x, sizeof(Lanes));
-      std::memcpy(dir_y + k, &dir.y, sizeof(Lanes));
-      std::memcpy(dir_z + k, &dir.z, sizeof(Lanes));
+      store(dir_x + k, dir.x, fail.failed);
+      store(dir_y + k, dir.y, fail.failed);
+      store(dir_z + k, dir.z, fail.failed);
     }
-    for (int i = 0; i < kLanes; ++i)
+    if (anyOf(fail.failed.a | fail.failed.b))
     {
-      failures += fail.failed[i] != 0 ? 1 : 0;
+      for (int i = 0; i < kLanes; ++i)
+      {
+        failures += (fail.failed.a[i] != 0 ? 1 : 0) + (fail.failed.b[i] != 0 ? 1 : 0);
+      }
     }
   }
   return failures;
@@ -547,22 +675,22 @@ std::size_t OpticalModel::traceBlock(std::size_t n, const double* q_x, const dou
                                      double* spot_y, double* dir_x, double* dir_y, double* dir_z) const
 {
   const bool directions = dir_x != nullptr && dir_y != nullptr && dir_z != nullptr;
-  const std::size_t whole = n - n % kLanes;
+  const std::size_t whole = n - n % kStepRays;
   std::size_t failures =
       traceLanes(*surfaces_, whole, q_x, q_y, spot_x, spot_y, directions ? dir_x : nullptr, dir_y, dir_z);
   if (whole < n)
   {
     // The last partial block, padded with copies of its first ray.
-    double in_x[kLanes];
-    double in_y[kLanes];
-    double out[5][kLanes];
-    for (int i = 0; i < kLanes; ++i)
+    double in_x[kStepRays];
+    double in_y[kStepRays];
+    double out[5][kStepRays];
+    for (std::size_t i = 0; i < kStepRays; ++i)
     {
       const std::size_t k = whole + (whole + i < n ? i : 0);
       in_x[i] = q_x[k];
       in_y[i] = q_y[k];
     }
-    traceLanes(*surfaces_, kLanes, in_x, in_y, out[0], out[1], out[2], out[3], out[4]);
+    traceLanes(*surfaces_, kStepRays, in_x, in_y, out[0], out[1], out[2], out[3], out[4]);
     for (std::size_t k = whole; k < n; ++k)
     {
       const std::size_t i = k - whole;

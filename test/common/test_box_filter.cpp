@@ -239,3 +239,54 @@ TEST(RateLimiter, LimitsStepPerAxisAndCarriesVelocity)
   EXPECT_EQ(s_dot(0), 25.0);  // velocity clamped even when the step passes
   EXPECT_THROW(scanhead::RateLimiter(0.0, kTs), scanhead::ConfigError);
 }
+
+TEST(BoxFilter, PushBlockIsPushAverageDerivativeBitForBit)
+{
+  // The NC filters a chunk at a time: every output of pushBlock must be the bits of push() then
+  // average() / derivative() sample by sample, for whole and fractional durations, the identity,
+  // blocks shorter and longer than the window, and only the first average_channels averages.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> step(-1e-3, 1e-3);
+  for (const double duration_s : {0.0, 0.3 * kTs, 2.6 * kTs, 260e-6})
+  {
+    BoxFilter<4> block(duration_s, kTs);
+    BoxFilter<4> single(duration_s, kTs);
+    const Eigen::Vector4d start(0.1, -0.2, 0.0, 3.0);
+    block.reset(start);
+    single.reset(start);
+    Eigen::Vector4d x = start;
+    for (const std::size_t count : {1, 7, 1000, 3, 40, 1})
+    {
+      std::vector<Eigen::Vector4d> in(count), average(count, Eigen::Vector4d::Constant(-7.0)), derivative(count);
+      for (Eigen::Vector4d& v : in)
+      {
+        x += Eigen::Vector4d(step(rng), step(rng), step(rng), step(rng));
+        v = x;
+      }
+      const int channels = count == 40 ? 2 : 4;
+      block.pushBlock(in.data(), count, average.data(), derivative.data(), channels);
+      for (std::size_t i = 0; i < count; ++i)
+      {
+        single.push(in[i]);
+        const Eigen::Vector4d a = single.average();
+        const Eigen::Vector4d d = single.derivative();
+        for (int c = 0; c < 4; ++c)
+        {
+          if (c < channels)
+          {
+            ASSERT_EQ(average[i][c], a[c]) << "T " << duration_s << " count " << count << " sample " << i;
+          }
+          else
+          {
+            ASSERT_EQ(average[i][c], -7.0);  // not written
+          }
+          ASSERT_EQ(derivative[i][c], d[c]) << "T " << duration_s << " count " << count << " sample " << i;
+        }
+      }
+      for (std::size_t k = 0; k < single.taps(); ++k)
+      {
+        ASSERT_EQ(block.sampleAgo(k), single.sampleAgo(k)) << "window after the block, k " << k;
+      }
+    }
+  }
+}

@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/optics/correction_table.hpp"
@@ -329,5 +331,63 @@ TEST(CorrectionTable, ParseInterpolation)
               std::string::npos)
         << e.what();
   }
+}
+TEST(CorrectionTable, PredictBlockMatchesPointByPoint)
+{
+  // predictBlock is the NC's Newton start: the bicubic angles bit for bit as joints(·, Bicubic),
+  // the step matrix bit for bit as jointsAndInverseJacobian, and at a node the node's J⁻¹ of the
+  // optics (the bilinear weights are 1, 0, 0, 0 there); outside points are flagged, not thrown.
+  const OpticalModel optics = nominalModel();
+  const CorrectionTable table = CorrectionTable::build(optics, 17, 0.05);
+  std::vector<double> x, y;
+  std::uint64_t state = 12345;
+  auto uniform = [&state](double lo, double hi) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + (hi - lo) * static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  for (int k = 0; k < 997; ++k)
+  {
+    x.push_back(uniform(-0.0502, 0.0502));  // some points outside [−h, h]² (by up to 0.2 mm)
+    y.push_back(uniform(-0.0502, 0.0502));
+  }
+  const double node = -0.05 + 3 * (0.1 / 16);  // node (3, 5)
+  x.push_back(node);
+  y.push_back(-0.05 + 5 * (0.1 / 16));
+  x.push_back(std::nan(""));
+  y.push_back(0.0);
+  const std::size_t n = x.size();
+  std::vector<double> q_x(n), q_y(n), m00(n), m01(n), m10(n), m11(n);
+  std::vector<unsigned char> ok(n);
+  table.predictBlock(n, x.data(), y.data(), q_x.data(), q_y.data(), m00.data(), m01.data(), m10.data(), m11.data(),
+                     ok.data());
+  int inside = 0;
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    Eigen::Vector2d q;
+    Eigen::Matrix2d m;
+    const bool expected = table.jointsAndInverseJacobian(Eigen::Vector2d(x[k], y[k]), q, m);
+    ASSERT_EQ(ok[k] == 1, expected) << "point " << k;
+    if (!expected)
+    {
+      EXPECT_EQ(q_x[k], 0.0);
+      EXPECT_EQ(m11[k], 0.0);
+      continue;
+    }
+    ++inside;
+    EXPECT_TRUE(sameBits(Eigen::Vector2d(q_x[k], q_y[k]), q)) << "point " << k;
+    EXPECT_TRUE(sameBits(Eigen::Vector2d(q_x[k], q_y[k]),
+                         table.joints(Eigen::Vector2d(x[k], y[k]), TableInterpolation::Bicubic)));
+    EXPECT_TRUE(sameBits(Eigen::Vector2d(m00[k], m01[k]), Eigen::Vector2d(m(0, 0), m(0, 1)))) << "point " << k;
+    EXPECT_TRUE(sameBits(Eigen::Vector2d(m10[k], m11[k]), Eigen::Vector2d(m(1, 0), m(1, 1)))) << "point " << k;
+  }
+  EXPECT_GT(inside, 900);
+  EXPECT_LT(inside, 997);
+  ASSERT_EQ(ok[n - 2], 1);
+  EXPECT_EQ(ok[n - 1], 0);  // NaN
+  const Eigen::Matrix2d j_inverse = optics.jacobian(Eigen::Vector2d(q_x[n - 2], q_y[n - 2])).inverse();
+  EXPECT_NEAR(m00[n - 2], j_inverse(0, 0), 1e-9 * j_inverse.norm());
+  EXPECT_NEAR(m01[n - 2], j_inverse(0, 1), 1e-9 * j_inverse.norm());
+  EXPECT_NEAR(m10[n - 2], j_inverse(1, 0), 1e-9 * j_inverse.norm());
+  EXPECT_NEAR(m11[n - 2], j_inverse(1, 1), 1e-9 * j_inverse.norm());
 }
 }  // namespace scanhead

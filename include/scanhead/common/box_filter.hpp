@@ -58,8 +58,9 @@ public:
   /// \brief push(x[i]), then average() into average[i] and derivative() into derivative[i], for
   /// i = 0 .. count−1: the same numbers bit for bit, computed a chunk at a time (the tap sums
   /// across the samples, which are independent, instead of one sample's taps after another: a
-  /// vector loop instead of a chain of dependent additions). \p derivative may be null.
-  void pushBlock(const Vector* x, std::size_t count, Vector* average, Vector* derivative);
+  /// vector loop instead of a chain of dependent additions). \p derivative may be null; only the
+  /// first \p average_channels channels of \p average are written (the others are left as they are).
+  void pushBlock(const Vector* x, std::size_t count, Vector* average, Vector* derivative, int average_channels = N);
 
   /// \brief y(t_n), the mean of x over [t_n − T, t_n].
   ///

@@ -103,6 +103,15 @@ public:
   /// \return false, leaving the outputs untouched, if the point lies outside [−h, h]² (no throw)
   bool jointsAndInverseJacobian(const Eigen::Vector2d& spot_m, Eigen::Vector2d& q, Eigen::Matrix2d& dq_dx) const;
 
+  /// \brief jointsAndInverseJacobian() of \p n points at once, structure of arrays; bit-identical
+  /// to it point by point (one routine computes both).
+  /// \param[in] x, y        the points [m]
+  /// \param[out] q_x, q_y   bicubic joint angles [rad]; 0 where the point lies outside [−h, h]²
+  /// \param[out] m00, m01, m10, m11  ∂q/∂x, row-major (m01 = ∂q_x/∂y) [rad/m]; 0 outside
+  /// \param[out] ok         1 inside, 0 outside (no throw)
+  void predictBlock(std::size_t n, const double* x, const double* y, double* q_x, double* q_y, double* m00, double* m01,
+                    double* m10, double* m11, unsigned char* ok) const;
+
   int nodes() const { return nodes_; }
   double halfWidth() const { return half_width_m_; }
 
@@ -115,6 +124,8 @@ private:
     double q_y[2] = {0.0, 0.0};   ///< ∂q/∂y [rad/m] (exact: second column of J⁻¹)
     double q_xy[2] = {0.0, 0.0};  ///< ∂²q/∂x∂y [rad/m²] (differenced over the grid)
   };
+
+  struct Cell;  ///< a point's cell and its interpolation (correction_table.cpp)
 
   /// Sets n, h, the spacing and n² zero nodes.
   void setShape(int nodes, double half_width_m);
