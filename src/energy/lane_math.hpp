@@ -1,0 +1,73 @@
+/// \file lane_math.hpp
+/// \brief exp and erf on 8 float lanes (GCC vector extensions), for the row kernels of stroke_deposit.cpp (private
+/// to src/energy).
+///
+/// Only add, multiply, divide, compare and integer bit operations, and no FMA contraction (the AVX2 target does not
+/// enable FMA; the project builds with -ffp-contract=off where it matters): every clone of a caller (target_clones
+/// "avx2" / "default") computes the same bits, so maps do not depend on the machine's vector width.
+#pragma once
+
+#include <cstdint>
+
+// Every helper is inlined into its (cloned) caller, so 32-byte vectors never cross a call: GCC's note on their ABI
+// without AVX does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+#define SCANHEAD_LANE_INLINE inline __attribute__((always_inline))
+
+namespace scanhead::energy_detail
+{
+typedef float F8 __attribute__((vector_size(32)));
+typedef std::int32_t I8 __attribute__((vector_size(32)));
+
+SCANHEAD_LANE_INLINE F8 splat(float x)
+{
+  return F8{x, x, x, x, x, x, x, x};
+}
+
+/// \brief {0, 1, …, 7}: the lane offsets of a block of 8 consecutive pixels.
+SCANHEAD_LANE_INLINE F8 laneIndex()
+{
+  return F8{0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f};
+}
+
+/// \brief e^{−x} for x ≥ 0 (x > 87 gives e^{−87} ≈ 1.6e-38 instead of less: harmless against weights ≥ 1e-6).
+///
+/// Cephes expf (S. L. Moshier, Cephes Math Library, expf.c): e^y = 2ⁿ·e^r with n = round(y/ln 2) (by the 1.5·2²³
+/// rounding trick, round to nearest), r = y − n·ln 2 in two parts (Cody–Waite: 0.693359375 is exact in float, so
+/// n·C1 is exact), e^r = 1 + r + r²·P(r) with the minimax degree-5 P of Cephes on |r| ≤ ln2/2: relative error
+/// ≤ 2 ulp in float arithmetic (measured against std::exp in test_stroke_deposit.cpp).
+SCANHEAD_LANE_INLINE F8 expNeg(F8 x)
+{
+  const F8 y = -(x < splat(87.0f) ? x : splat(87.0f));
+  const F8 round_bias = splat(12582912.0f);  // 1.5·2²³
+  const F8 n = (y * splat(1.44269504088896341f) + round_bias) - round_bias;
+  F8 r = y - n * splat(0.693359375f);
+  r = r - n * splat(-2.12194440e-4f);
+  F8 p = splat(1.9875691500e-4f);
+  p = p * r + splat(1.3981999507e-3f);
+  p = p * r + splat(8.3334519073e-3f);
+  p = p * r + splat(4.1665795894e-2f);
+  p = p * r + splat(1.6666665459e-1f);
+  p = p * r + splat(5.0000001201e-1f);
+  const F8 e = (p * (r * r) + r) + splat(1.0f);
+  const I8 scale = (__builtin_convertvector(n, I8) + 127) << 23;  // 2ⁿ, n ∈ [−126, 0]
+  return e * reinterpret_cast<F8>(scale);
+}
+
+/// \brief erf x by Abramowitz & Stegun 7.1.26: erf|x| = 1 − t(a₁ + t(a₂ + t(a₃ + t(a₄ + t a₅))))·e^{−x²},
+/// t = 1/(1 + p|x|), |error| ≤ 1.5e-7 (+ float rounding, ~1e-7); odd.
+SCANHEAD_LANE_INLINE F8 erfLanes(F8 x)
+{
+  const I8 sign_bit = I8{} + static_cast<std::int32_t>(0x80000000u);
+  const I8 bits = reinterpret_cast<I8>(x);
+  const F8 a = reinterpret_cast<F8>(bits & ~sign_bit);
+  const F8 t = splat(1.0f) / (splat(1.0f) + splat(0.3275911f) * a);
+  F8 poly = splat(1.061405429f);
+  poly = poly * t + splat(-1.453152027f);
+  poly = poly * t + splat(1.421413741f);
+  poly = poly * t + splat(-0.284496736f);
+  poly = poly * t + splat(0.254829592f);
+  const F8 value = splat(1.0f) - (poly * t) * expNeg(a * a);
+  return reinterpret_cast<F8>(reinterpret_cast<I8>(value) | (bits & sign_bit));
+}
+}  // namespace scanhead::energy_detail
