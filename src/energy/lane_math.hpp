@@ -54,20 +54,28 @@ SCANHEAD_LANE_INLINE F8 expNeg(F8 x)
   return e * reinterpret_cast<F8>(scale);
 }
 
-/// \brief erf x by Abramowitz & Stegun 7.1.26: erf|x| = 1 − t(a₁ + t(a₂ + t(a₃ + t(a₄ + t a₅))))·e^{−x²},
-/// t = 1/(1 + p|x|), |error| ≤ 1.5e-7 (+ float rounding, ~1e-7); odd.
+/// \brief erf x by Abramowitz & Stegun 7.1.28: erf|x| = 1 − 1/(1 + a₁x + a₂x² + … + a₆x⁶)¹⁶, |error| ≤ 3e-7; odd.
+///
+/// No exponential (a polynomial, four squarings and a division: ~18 lane operations instead of ~35 for 7.1.26 with
+/// its e^{−x²}). In float the 16th power amplifies the polynomial's rounding (≤ 2 ulp) 16 times: ≤ 4e-6·erfc|x|
+/// absolute, so |error| ≤ 4e-6 everywhere and → 0 where erf → ±1 (checked against std::erf by the tests).
 SCANHEAD_LANE_INLINE F8 erfLanes(F8 x)
 {
   const I8 sign_bit = I8{} + static_cast<std::int32_t>(0x80000000u);
   const I8 bits = reinterpret_cast<I8>(x);
   const F8 a = reinterpret_cast<F8>(bits & ~sign_bit);
-  const F8 t = splat(1.0f) / (splat(1.0f) + splat(0.3275911f) * a);
-  F8 poly = splat(1.061405429f);
-  poly = poly * t + splat(-1.453152027f);
-  poly = poly * t + splat(1.421413741f);
-  poly = poly * t + splat(-0.284496736f);
-  poly = poly * t + splat(0.254829592f);
-  const F8 value = splat(1.0f) - (poly * t) * expNeg(a * a);
+  F8 poly = splat(0.0000430638f);
+  poly = poly * a + splat(0.0002765672f);
+  poly = poly * a + splat(0.0001520143f);
+  poly = poly * a + splat(0.0092705272f);
+  poly = poly * a + splat(0.0422820123f);
+  poly = poly * a + splat(0.0705230784f);
+  poly = poly * a + splat(1.0f);
+  poly = poly * poly;  // ²
+  poly = poly * poly;  // ⁴
+  poly = poly * poly;  // ⁸
+  poly = poly * poly;  // ¹⁶ (overflows to +inf beyond |x| ≈ 60: 1/inf = 0, erf = 1)
+  const F8 value = splat(1.0f) - splat(1.0f) / poly;
   return reinterpret_cast<F8>(reinterpret_cast<I8>(value) | (bits & sign_bit));
 }
 }  // namespace scanhead::energy_detail

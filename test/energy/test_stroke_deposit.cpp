@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "../src/energy/lane_math.hpp"  // private to src/energy: its lane exp and erf checked here
 #include "fixtures/chain_fixture.hpp"
 #include "fixtures/spot_stream_fixture.hpp"
 #include "scanhead/common/errors.hpp"
@@ -120,6 +121,35 @@ TEST(SegmentIntegral, MatchesQuadrature)
         EXPECT_NEAR(value, reference, 1e-9 * peak) << "d = " << d.transpose() << ", r = " << r.transpose();
       }
     }
+}
+
+// The lane functions of the row kernels against the standard library: e^{−x} within 4e-7 relative over the range
+// the kernels use, erf within the 4e-6 absolute that stroke_deposit.hpp states.
+TEST(StrokeDeposit, LaneMathMatchesStd)
+{
+  using scanhead::energy_detail::F8;
+  double worst_exp = 0.0, worst_erf = 0.0;
+  for (int i = 0; i < 20000; ++i)
+  {
+    F8 x;
+    for (int l = 0; l < 8; ++l)
+      x[l] = static_cast<float>((i * 8 + l) * (87.0 / 160000.0));
+    const F8 e = scanhead::energy_detail::expNeg(x);
+    for (int l = 0; l < 8; ++l)
+    {
+      const double reference = std::exp(-static_cast<double>(x[l]));
+      worst_exp = std::max(worst_exp, std::abs(e[l] - reference) / reference);
+    }
+    F8 y;
+    for (int l = 0; l < 8; ++l)
+      y[l] = static_cast<float>(-8.0 + (i * 8 + l) * (16.0 / 160000.0));
+    const F8 f = scanhead::energy_detail::erfLanes(y);
+    for (int l = 0; l < 8; ++l)
+      worst_erf = std::max(worst_erf, std::abs(f[l] - std::erf(static_cast<double>(y[l]))));
+  }
+  std::cout << "[lanes] exp rel err " << worst_exp << ", erf abs err " << worst_erf << "\n";
+  EXPECT_LT(worst_exp, 4e-7);
+  EXPECT_LT(worst_erf, 4e-6);
 }
 
 // The row-by-row evaluation (a dwell, a short stroke by Gauss–Legendre, a long one by erf, oblique and circular)
