@@ -30,6 +30,21 @@ SCANHEAD_LANE_INLINE F8 laneIndex()
   return F8{0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f};
 }
 
+/// \brief Adds the lanes of \p value below \p count (a row's last, partial block) to \p sum.
+SCANHEAD_LANE_INLINE void accumulate(F8& sum, F8 value, int count)
+{
+  sum += count >= 8 ? value : (laneIndex() < splat(static_cast<float>(count)) ? value : splat(0.0f));
+}
+
+/// \brief Σ of the 8 lanes in a fixed order, in double.
+SCANHEAD_LANE_INLINE double laneSum(F8 sum)
+{
+  double total = 0.0;
+  for (int l = 0; l < 8; ++l)
+    total += static_cast<double>(sum[l]);
+  return total;
+}
+
 /// \brief e^{−x} for x ≥ 0 (x > 87 gives e^{−87} ≈ 1.6e-38 instead of less: harmless against weights ≥ 1e-6).
 ///
 /// Cephes expf (S. L. Moshier, Cephes Math Library, expf.c): e^y = 2ⁿ·e^r with n = round(y/ln 2) (by the 1.5·2²³

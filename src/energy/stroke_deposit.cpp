@@ -58,10 +58,11 @@ struct GaussianSum
 ///
 /// 8 columns a block, every exponential evaluated (lane_math.hpp: no recurrence, so no error growth along a row);
 /// k − centre is formed in double and rounded once, so a row far from the origin keeps float's relative precision.
-__attribute__((target_clones("avx2", "default"))) void gaussianSumLanes(const GaussianSum& g, int n, float* w)
+__attribute__((target_clones("avx2", "default"))) double gaussianSumLanes(const GaussianSum& g, int n, float* w)
 {
   using namespace energy_detail;
   const F8 lane = laneIndex();
+  F8 total = splat(0.0f);
   const F8 alpha = splat(static_cast<float>(g.alpha));
   for (int k0 = 0; k0 < n; k0 += 8)
   {
@@ -72,7 +73,9 @@ __attribute__((target_clones("avx2", "default"))) void gaussianSumLanes(const Ga
       sum += splat(static_cast<float>(g.amp[i])) * expNeg(splat(static_cast<float>(g.e[i])) + alpha * (t * t));
     }
     std::memcpy(w + k0, &sum, sizeof sum);
+    accumulate(total, sum, n - k0);
   }
+  return laneSum(total);
 }
 
 /// \brief A short stroke along a row: s_k = s0 + k·ds, u_k = u0 + k·du, and the 4-point Gauss–Legendre form
@@ -89,10 +92,11 @@ struct ShortRow
 /// for the common Gaussian, and each node's e^{2c_i u_k} is geometric in k (ratio e^{2c_i du}): its 8 lanes are
 /// evaluated once a row and advanced by e^{16 c_i du} a block (relative error ~1e-7 a block; a short stroke's row
 /// has ≤ (2R + √A·w)/p pixels, a few blocks). |2c_i u| ≤ 2·0.5·|u| stays far inside float's range in the capsule.
-__attribute__((target_clones("avx2", "default"))) void shortRowLanes(const ShortRow& r, int n, float* w)
+__attribute__((target_clones("avx2", "default"))) double shortRowLanes(const ShortRow& r, int n, float* w)
 {
   using namespace energy_detail;
   const F8 lane = laneIndex();
+  F8 total = splat(0.0f);
   const F8 ds = splat(static_cast<float>(r.ds)) * lane, du = splat(static_cast<float>(r.du)) * lane;
   F8 node[4], advance[4];
   for (int i = 0; i < 4; ++i)
@@ -109,9 +113,11 @@ __attribute__((target_clones("avx2", "default"))) void shortRowLanes(const Short
     const F8 u = splat(static_cast<float>(r.u0 + k0 * r.du)) + du;
     const F8 value = expNeg(s * s + u * u) * ((node[0] + node[1]) + (node[2] + node[3]));
     std::memcpy(w + k0, &value, sizeof value);
+    accumulate(total, value, n - k0);
     for (int i = 0; i < 4; ++i)
       node[i] *= advance[i];
   }
+  return laneSum(total);
 }
 
 /// \brief The erf form along a row: s_k = s0 + k·ds, u_k = u0 + k·du, W = exp(−s²)·[erf(√A − u) + erf(u)].
@@ -124,11 +130,12 @@ struct ErfRow
 /// 2 there (|u| and |√A − u| > 6), only the cross factor is evaluated. Each block's s, u and √A − u are formed in
 /// double at its first column, the lanes add k·ds in float: the arguments keep float's precision near zero however
 /// long the stroke. The bracket is clamped at 0 (erf(√A − u) ≥ −erf(u) exactly; rounding could make it −1e-7).
-__attribute__((target_clones("avx2", "default"))) void erfRowLanes(const ErfRow& r, int begin, int end, bool saturated,
-                                                                   float* w)
+__attribute__((target_clones("avx2", "default"))) double erfRowLanes(const ErfRow& r, int begin, int end,
+                                                                     bool saturated, float* w)
 {
   using namespace energy_detail;
   const F8 lane = laneIndex();
+  F8 total = splat(0.0f);
   const F8 ds = splat(static_cast<float>(r.ds)) * lane, du = splat(static_cast<float>(r.du)) * lane;
   for (int k0 = begin; k0 < end; k0 += 8)
   {
@@ -147,7 +154,9 @@ __attribute__((target_clones("avx2", "default"))) void erfRowLanes(const ErfRow&
       value = cross * bracket;
     }
     std::memcpy(w + k0, &value, sizeof value);
+    accumulate(total, value, end - k0);
   }
+  return laneSum(total);
 }
 
 // Gauss–Legendre nodes and weights on [0, 1] (Abramowitz & Stegun 25.4.30, n = 4).
@@ -229,6 +238,7 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
     // x − c0.x of column i_lo + k is x0 + k·p.
     const double x0 = o.x() + (i_lo + 0.5) * p - c0.x();
     const double ry = y - c0.y();
+    double row_sum = 0.0;  // Σ of the row's float weights, from the kernels
     if (si.stationary)
     {
       // exp(−rᵀQr) = exp(−(det Q/q_xx)·Y²)·exp(−q_xx(X − X*)²), X* = −q_xy·Y/q_xx (r from the midpoint).
@@ -240,7 +250,7 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
       g.e[0] = (si.qxx * si.qyy - si.qxy * si.qxy) / si.qxx * yy * yy;
       g.centre[0] = (xs - x0) / p;
       g.alpha = alpha_stationary;
-      gaussianSumLanes(g, n, w);
+      row_sum = gaussianSumLanes(g, n, w);
     }
     else if (si.sqrt_a <= kShortStroke)
     {
@@ -256,7 +266,7 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
         g.c[i] = si.sqrt_a * kGaussNodes[i];
         g.a[i] = 2.0 / std::sqrt(M_PI) * si.sqrt_a * kGaussWeights[i];
       }
-      shortRowLanes(g, n, w);
+      row_sum = shortRowLanes(g, n, w);
     }
     else
     {
@@ -293,16 +303,16 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
         }
       }
       // In column order (each span's last block spills into the next span, which overwrites it).
-      erfRowLanes(e, 0, ka, false, w);
-      erfRowLanes(e, ka, kb, true, w);
-      erfRowLanes(e, kb, n, false, w);
+      row_sum = erfRowLanes(e, 0, ka, false, w);
+      row_sum += erfRowLanes(e, ka, kb, true, w);
+      row_sum += erfRowLanes(e, kb, n, false, w);
     }
     Row r;
     r.row = static_cast<std::int64_t>(jr);
     r.col = static_cast<std::int64_t>(i_lo);
     r.n = n;
     r.offset = used;
-    r.sum = energy_detail::sumRow(w, n);
+    r.sum = row_sum;
     total += r.sum;
     rows_.push_back(r);
     used += static_cast<std::size_t>(n);
