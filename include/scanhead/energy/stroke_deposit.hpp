@@ -20,7 +20,7 @@ namespace scanhead
 /// the weights are evaluated directly, 8 columns at a time in float lanes (src/energy/lane_math.hpp: exp by Cephes'
 /// expf, relative error ≤ 2 ulp; erf by Abramowitz & Stegun 7.1.28, |error| ≤ 4e-6 in float; AVX2 and default clones
 /// give the same bits): the cross factor exp(−(mᵀr)²) everywhere, the bracket erf(√A − u) + erf(u) only outside the run
-/// where |u| and |√A − u| exceed 6 (there it is 2 to float precision); short strokes (√A ≤ 0.5) by 4-point
+/// where |u| and |√A − u| exceed 6 (there it is 2 to float precision); short strokes (√A ≤ 1) by 4-point
 /// Gauss–Legendre in τ (4 Gaussians a pixel), stationary ones as the dwell's Gaussian. Every argument is formed in
 /// double at the first column of a block of 8 and rounded once, so the weights keep float precision (~1e-6 of the
 /// peak, far inside the 2e-3 budget of issue 13) on any row. Rows are stored as floats, summed in a fixed order, then
