@@ -262,7 +262,7 @@ TEST(StrokeDeposit, StraightTrackIsTheLineSource)
 }
 
 // No ripple at any speed: a track at 6 m/s (60 µm = 1.7 w per sample, where the sampled method without sub-steps
-// ripples by 37 %: test_energy_map.cpp) with its samples jittered by ± the merge tolerance across, so that nothing
+// ripples by 37 %: test_energy_map.cpp) with its samples jittered by ±1.5 merge tolerances across, so that nothing
 // merges.
 TEST(StrokeDeposit, NoRippleAtHighSpeed)
 {
@@ -273,7 +273,7 @@ TEST(StrokeDeposit, NoRippleAtHighSpeed)
   Stream s;
   s.line(Eigen::Vector2d(0.3e-3, y), Eigen::Vector2d(1.7e-3, y), 6.0, 200.0);
   for (std::size_t k = 0; k < s.pos.size(); ++k)
-    s.pos[k].y() += (k % 2 == 0 ? 1.0 : -1.0) * cfg.stroke_tolerance_m;
+    s.pos[k].y() += (k % 2 == 0 ? 1.0 : -1.0) * 1.5 * cfg.stroke_tolerance_m;
   feed(acc, s, 1000);
   EXPECT_EQ(acc.strokesDeposited(), acc.samplesDeposited());
   const int c0 = static_cast<int>((0.3e-3 + 4 * w) / p), c1 = static_cast<int>((1.7e-3 - 4 * w) / p);
@@ -294,7 +294,8 @@ TEST(StrokeDeposit, MergesOnlyWithinTheTolerance)
   straight.line(Eigen::Vector2d(0.2e-3, 0.5e-3), Eigen::Vector2d(0.8e-3, 0.5e-3), 1.0, 100.0);
   wavy = straight;
   for (std::size_t k = 0; k < wavy.pos.size(); ++k)
-    wavy.pos[k].y() += (k % 2 == 0 ? 1.0 : -1.0) * 0.6 * EnergyConfig().stroke_tolerance_m;  // 1.2 tol apart
+    // ±1.2 tol: no line lies within tol of three samples in a row
+    wavy.pos[k].y() += (k % 2 == 0 ? 1.0 : -1.0) * 1.2 * EnergyConfig().stroke_tolerance_m;
   for (const Stream* s : {&straight, &wavy})
   {
     EnergyAccumulator acc(withMethod("exact"), Eigen::Vector2d(0, 0), Eigen::Vector2d(1e-3, 1e-3));
