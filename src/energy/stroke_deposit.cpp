@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
+#include "lane_math.hpp"
 #include "row_kernels.hpp"
 #include "scanhead/energy/segment_integral.hpp"
 
@@ -14,54 +16,10 @@ namespace
 {
 constexpr double kErfSaturated = 6.0;  // erf(±6) = ±1 in double (erfc 6 = 2.2e-17 < half an ulp of 1)
 
-/// \brief erf by piecewise cubic Hermite interpolation on [0, 6) in steps of h = 1/64, from erf and its derivative
-/// 2/√π·e^{−x²} at the knots (|error| ≤ h⁴/384·max|erf⁗| = 1.6e-10·5.9 < 1e-9), ±1 beyond: 2.3 ns instead of ~20
-/// for std::erf, on a table of 12 KiB (in L1). Odd: erf(−x) = −erf(x).
-class ErfTable
-{
-public:
-  static constexpr int kPerUnit = 64;
-  ErfTable()
-  {
-    const double h = 1.0 / kPerUnit;
-    for (int i = 0; i < kIntervals; ++i)
-    {
-      const double x0 = i * h, x1 = (i + 1) * h;
-      const double f0 = std::erf(x0), f1 = std::erf(x1);
-      const double d0 = h * 2.0 / std::sqrt(M_PI) * std::exp(-x0 * x0),
-                   d1 = h * 2.0 / std::sqrt(M_PI) * std::exp(-x1 * x1);
-      double* c = coefficients_ + 4 * i;
-      c[0] = f0;
-      c[1] = d0;
-      c[2] = 3.0 * (f1 - f0) - 2.0 * d0 - d1;
-      c[3] = 2.0 * (f0 - f1) + d0 + d1;
-    }
-  }
-  double operator()(double x) const
-  {
-    const double a = std::abs(x);
-    if (!(a < kErfSaturated))
-      return std::copysign(1.0, x);
-    const double scaled = a * kPerUnit;
-    const int i = static_cast<int>(scaled);
-    const double t = scaled - i;
-    const double* c = coefficients_ + 4 * i;
-    return std::copysign(c[0] + t * (c[1] + t * (c[2] + t * c[3])), x);
-  }
-
-private:
-  static constexpr int kIntervals = static_cast<int>(kErfSaturated) * kPerUnit;
-  double coefficients_[4 * kIntervals];
-};
-
-const ErfTable& erfTable()
-{
-  static const ErfTable table;
-  return table;
-}
-
-// √A up to this: the erf difference by 4-point Gauss–Legendre (error ≤ 9.4e-7·√A⁹·… ≤ 2e-9 of the bracket at 0.5).
-constexpr double kShortStroke = 0.5;
+// √A up to this: the erf difference by 4-point Gauss–Legendre, one exponential a pixel instead of the erf form's
+// exponential and two erfs (error ≤ 9.5e-7·√A⁹: measured worst over u, 9.2e-7 of the stroke's peak bracket at √A = 1,
+// 3.7e-9 at 0.5: no more than the lane erf's 4e-6). √A = 1 is 25 µm at w = 35 µm: 2-sample strokes at 1 m/s.
+constexpr double kShortStroke = 1.0;
 
 /// \brief Narrows [lo, hi] to the x with c_lo ≤ α·x + β ≤ c_hi.
 void clampLinear(double alpha, double beta, double c_lo, double c_hi, double& lo, double& hi)
@@ -90,52 +48,117 @@ void addDisc(const Eigen::Vector2d& c, double radius, double y, double& lo, doub
   hi = std::max(hi, c.x() + half);
 }
 
-/// \brief out[k] = Σ_i amp[i]·exp(−e[i] − α (k − centre[i])²), k < n, for nodes ≤ 4 Gaussians of one curvature
-/// α ≥ 0 (q = e^{−2α} given).
-///
-/// The recurrence of gaussianWeights for each, interleaved: from the column nearest the centres' mean outwards,
-/// g_{k+1} = g_k·r_k, r_{k+1} = r_k·q (leftwards with q/r); two exponentials a node a row, 2 multiplications a node a
-/// pixel, relative error ~n·1e-16; a Gaussian whose start underflows only meets smaller values further out.
-void gaussianSumRow(int nodes, const double* amp, const double* e, const double* centre, double alpha, double q, int n,
-                    double* out)
+/// \brief Σ_i amp[i]·exp(−e[i] − α(k − centre[i])²) for ≤ 4 Gaussians of one curvature α ≥ 0 along a row.
+struct GaussianSum
 {
-  double mean = 0.0;
-  for (int i = 0; i < nodes; ++i)
-    mean += centre[i];
-  const int half = static_cast<int>(std::clamp(std::round(mean / nodes), 0.0, static_cast<double>(n - 1)));
-  double g[4], r[4], gl[4], rl[4];
-  double sum = 0.0;
-  for (int i = 0; i < nodes; ++i)
+  int nodes = 0;
+  double amp[4] = {}, e[4] = {}, centre[4] = {};
+  double alpha = 0.0;
+};
+
+/// \brief w[k] = the GaussianSum at column k, k < n rounded up to a multiple of 8 (w has room for it).
+///
+/// 8 columns a block, every exponential evaluated (lane_math.hpp: no recurrence, so no error growth along a row);
+/// k − centre is formed in double and rounded once, so a row far from the origin keeps float's relative precision.
+__attribute__((target_clones("avx2", "default"))) double gaussianSumLanes(const GaussianSum& g, int n, float* w)
+{
+  using namespace energy_detail;
+  const F8 lane = laneIndex();
+  F8 total = splat(0.0f);
+  const F8 alpha = splat(static_cast<float>(g.alpha));
+  for (int k0 = 0; k0 < n; k0 += 8)
   {
-    const double d = half - centre[i];
-    g[i] = gl[i] = amp[i] * std::exp(-e[i] - alpha * d * d);
-    r[i] = std::exp(-alpha * (2.0 * d + 1.0));
-    rl[i] = q / r[i];  // exp(−α(−2d + 1))
-    sum += g[i];
-  }
-  out[half] = sum;
-  for (int k = half + 1; k < n; ++k)
-  {
-    sum = 0.0;
-    for (int i = 0; i < nodes; ++i)
+    F8 sum = splat(0.0f);
+    for (int i = 0; i < g.nodes; ++i)
     {
-      g[i] *= r[i];
-      r[i] *= q;
-      sum += g[i];
+      const F8 t = splat(static_cast<float>(k0 - g.centre[i])) + lane;
+      sum += splat(static_cast<float>(g.amp[i])) * expNeg(splat(static_cast<float>(g.e[i])) + alpha * (t * t));
     }
-    out[k] = sum;
+    std::memcpy(w + k0, &sum, sizeof sum);
+    accumulate(total, sum, n - k0);
   }
-  for (int k = half - 1; k >= 0; --k)
+  return laneSum(total);
+}
+
+/// \brief A short stroke along a row: s_k = s0 + k·ds, u_k = u0 + k·du, and the 4-point Gauss–Legendre form
+/// W = Σ_i a_i·exp(−s² − (u − c_i)²), c_i = √A·τ_i, a_i = (2/√π)·√A·w_i.
+struct ShortRow
+{
+  double s0 = 0.0, ds = 0.0, u0 = 0.0, du = 0.0;
+  double c[4] = {}, a[4] = {};
+};
+
+/// \brief w[k] for the ShortRow, k < n rounded up to a multiple of 8.
+///
+/// s² + (u − c)² = (s² + u²) − 2cu + c², so W = exp(−s² − u²)·Σ_i a_i e^{−c_i²}·e^{2c_i u}: one exponential a pixel
+/// for the common Gaussian, and each node's e^{2c_i u_k} is geometric in k (ratio e^{2c_i du}): its 8 lanes are
+/// evaluated once a row and advanced by e^{16 c_i du} a block (relative error ~1e-7 a block; a short stroke's row
+/// has ≤ (2R + √A·w)/p pixels, a few blocks). |2c_i u| ≤ 2·0.5·|u| stays far inside float's range in the capsule.
+__attribute__((target_clones("avx2", "default"))) double shortRowLanes(const ShortRow& r, int n, float* w)
+{
+  using namespace energy_detail;
+  const F8 lane = laneIndex();
+  F8 total = splat(0.0f);
+  const F8 ds = splat(static_cast<float>(r.ds)) * lane, du = splat(static_cast<float>(r.du)) * lane;
+  F8 node[4], advance[4];
+  for (int i = 0; i < 4; ++i)
   {
-    sum = 0.0;
-    for (int i = 0; i < nodes; ++i)
-    {
-      gl[i] *= rl[i];
-      rl[i] *= q;
-      sum += gl[i];
-    }
-    out[k] = sum;
+    // a_i·e^{−c_i²}·e^{2c_i(u0 + l·du)}, lanes l = 0..7, and the ratio e^{2c_i·8du} from one block to the next.
+    const F8 arg = splat(static_cast<float>(r.c[i] * r.c[i] - 2.0 * r.c[i] * r.u0)) -
+                   splat(2.0f * static_cast<float>(r.c[i])) * du;
+    node[i] = splat(static_cast<float>(r.a[i])) * expNeg(arg);
+    advance[i] = splat(static_cast<float>(std::exp(16.0 * r.c[i] * r.du)));
   }
+  for (int k0 = 0; k0 < n; k0 += 8)
+  {
+    const F8 s = splat(static_cast<float>(r.s0 + k0 * r.ds)) + ds;
+    const F8 u = splat(static_cast<float>(r.u0 + k0 * r.du)) + du;
+    const F8 value = expNeg(s * s + u * u) * ((node[0] + node[1]) + (node[2] + node[3]));
+    std::memcpy(w + k0, &value, sizeof value);
+    accumulate(total, value, n - k0);
+    for (int i = 0; i < 4; ++i)
+      node[i] *= advance[i];
+  }
+  return laneSum(total);
+}
+
+/// \brief The erf form along a row: s_k = s0 + k·ds, u_k = u0 + k·du, W = exp(−s²)·[erf(√A − u) + erf(u)].
+struct ErfRow
+{
+  double s0 = 0.0, ds = 0.0, u0 = 0.0, du = 0.0, sqrt_a = 0.0;
+};
+
+/// \brief w[k] = W at columns k ∈ [begin, end) rounded up to a multiple of 8 from begin; \p saturated: the bracket is
+/// 2 there (|u| and |√A − u| > 6), only the cross factor is evaluated. Each block's s, u and √A − u are formed in
+/// double at its first column, the lanes add k·ds in float: the arguments keep float's precision near zero however
+/// long the stroke. The bracket is clamped at 0 (erf(√A − u) ≥ −erf(u) exactly; rounding could make it −1e-7).
+__attribute__((target_clones("avx2", "default"))) double erfRowLanes(const ErfRow& r, int begin, int end,
+                                                                     bool saturated, float* w)
+{
+  using namespace energy_detail;
+  const F8 lane = laneIndex();
+  F8 total = splat(0.0f);
+  const F8 ds = splat(static_cast<float>(r.ds)) * lane, du = splat(static_cast<float>(r.du)) * lane;
+  for (int k0 = begin; k0 < end; k0 += 8)
+  {
+    const F8 s = splat(static_cast<float>(r.s0 + k0 * r.ds)) + ds;
+    const F8 cross = expNeg(s * s);
+    F8 value;
+    if (saturated)
+      value = splat(2.0f) * cross;
+    else
+    {
+      const double u_first = r.u0 + k0 * r.du;
+      const F8 u = splat(static_cast<float>(u_first)) + du;
+      const F8 v = splat(static_cast<float>(r.sqrt_a - u_first)) - du;
+      F8 bracket = erfLanes(v) + erfLanes(u);
+      bracket = bracket > splat(0.0f) ? bracket : splat(0.0f);
+      value = cross * bracket;
+    }
+    std::memcpy(w + k0, &value, sizeof value);
+    accumulate(total, value, end - k0);
+  }
+  return laneSum(total);
 }
 
 // Gauss–Legendre nodes and weights on [0, 1] (Abramowitz & Stegun 25.4.30, n = 4).
@@ -180,10 +203,7 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
   const Eigen::Vector2d t = length > 0.0 ? Eigen::Vector2d(d / length) : Eigen::Vector2d(1.0, 0.0);
   const Eigen::Vector2d nrm(-t.y(), t.x());
   // Per-stroke constants of the row recurrences (curvatures along a row, in columns).
-  const double ds_row = si.m.x() * p, du_row = si.g.x() * p;
-  const double alpha_stationary = si.qxx * p * p, q_stationary = std::exp(-2.0 * alpha_stationary);
-  const double alpha = ds_row * ds_row + du_row * du_row, q_short = std::exp(-2.0 * alpha);  // α > 0: m, g independent
-  const double alpha_cross = ds_row * ds_row, q_cross = std::exp(-2.0 * alpha_cross);
+  const double alpha_stationary = si.qxx * p * p;
   rows_.clear();
   std::size_t used = 0;
   double total = 0.0;
@@ -212,89 +232,89 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
     if (i_hi < i_lo)
       continue;
     const int n = static_cast<int>(i_hi - i_lo) + 1;
-    if (weights_.size() < used + static_cast<std::size_t>(n))
-      weights_.resize(std::max(2 * weights_.size(), used + static_cast<std::size_t>(n)));
-    if (cross_.size() < static_cast<std::size_t>(n))
-      cross_.resize(static_cast<std::size_t>(n));
+    // The lane kernels write whole blocks of 8: room for the last one (the next row overwrites the excess).
+    const std::size_t room = used + static_cast<std::size_t>(n) + 8;
+    if (weights_.size() < room)
+      weights_.resize(std::max(2 * weights_.size(), room));
     float* w = weights_.data() + used;
     // x − c0.x of column i_lo + k is x0 + k·p.
     const double x0 = o.x() + (i_lo + 0.5) * p - c0.x();
     const double ry = y - c0.y();
+    double row_sum = 0.0;  // Σ of the row's float weights, from the kernels
     if (si.stationary)
     {
       // exp(−rᵀQr) = exp(−(det Q/q_xx)·Y²)·exp(−q_xx(X − X*)²), X* = −q_xy·Y/q_xx (r from the midpoint).
       const double yy = ry - si.centre.y();
       const double xs = si.centre.x() - si.qxy / si.qxx * yy;  // X* in c0's frame
-      const double amp = 1.0, e = (si.qxx * si.qyy - si.qxy * si.qxy) / si.qxx * yy * yy;
-      const double centre = (xs - x0) / p;
-      gaussianSumRow(1, &amp, &e, &centre, alpha_stationary, q_stationary, n, cross_.data());
-      for (int k = 0; k < n; ++k)
-        w[k] = static_cast<float>(cross_[static_cast<std::size_t>(k)]);
+      GaussianSum g;
+      g.nodes = 1;
+      g.amp[0] = 1.0;
+      g.e[0] = (si.qxx * si.qyy - si.qxy * si.qxy) / si.qxx * yy * yy;
+      g.centre[0] = (xs - x0) / p;
+      g.alpha = alpha_stationary;
+      row_sum = gaussianSumLanes(g, n, w);
     }
     else if (si.sqrt_a <= kShortStroke)
     {
       // A short stroke: erf(u) − erf(u − √A) = (2/√π)∫ e^{−x²} over [u − √A, u] by 4-point Gauss–Legendre, so
-      // W = (2/√π)·√A·Σ_i w_i·exp(−s² − (u − √A τ_i)²): along the row each term is one Gaussian in k.
-      const double s0 = si.m.x() * x0 + si.m.y() * ry, ds = si.m.x() * p;
-      const double u0 = si.g.x() * x0 + si.g.y() * ry, du = si.g.x() * p;
-      double amp[4], e[4], centre[4];
+      // W = (2/√π)·√A·Σ_i w_i·exp(−s² − (u − √A τ_i)²) (shortRowLanes).
+      ShortRow g;
+      g.s0 = si.m.x() * x0 + si.m.y() * ry;
+      g.ds = si.m.x() * p;
+      g.u0 = si.g.x() * x0 + si.g.y() * ry;
+      g.du = si.g.x() * p;
       for (int i = 0; i < 4; ++i)
       {
-        // s_k² + (u_k − c)² = α(k − k*)² + e_min, k* = −(s0·ds + (u0 − c)·du)/α.
-        const double uc = u0 - si.sqrt_a * kGaussNodes[i];
-        const double b = s0 * ds + uc * du;
-        centre[i] = -b / alpha;
-        e[i] = std::max(0.0, s0 * s0 + uc * uc - b * b / alpha);
-        amp[i] = 2.0 / std::sqrt(M_PI) * si.sqrt_a * kGaussWeights[i];
+        g.c[i] = si.sqrt_a * kGaussNodes[i];
+        g.a[i] = 2.0 / std::sqrt(M_PI) * si.sqrt_a * kGaussWeights[i];
       }
-      gaussianSumRow(4, amp, e, centre, alpha, q_short, n, cross_.data());
-      for (int k = 0; k < n; ++k)
-        w[k] = static_cast<float>(cross_[static_cast<std::size_t>(k)]);
+      row_sum = shortRowLanes(g, n, w);
     }
     else
     {
-      // s = mᵀr = m_x·x + m_y·Y along the row (slope m_x·p per column); u = gᵀr likewise.
-      const double s0 = si.m.x() * x0 + si.m.y() * ry, ds = si.m.x() * p;
-      const double one = 1.0;
-      double centre = 0.0, e = 0.0;
-      if (ds != 0.0)
-        centre = -s0 / ds;  // s = ds·(k − centre)
-      else
-        e = s0 * s0;
-      gaussianSumRow(1, &one, &e, &centre, alpha_cross, q_cross, n, cross_.data());
-      const double u0 = si.g.x() * x0 + si.g.y() * ry, du = si.g.x() * p, sa = si.sqrt_a;
-      const ErfTable& erf = erfTable();
-      // u is monotonic along the row, so the saturated pixels (bracket exactly 2) form one run: fill the row as if
-      // saturated (a vector loop), then evaluate the bracket from both ends inwards until it saturates.
-      const double* cross = cross_.data();
-      for (int k = 0; k < n; ++k)
-        w[k] = static_cast<float>(cross[k] * 2.0);
-      auto saturated = [&](double u) { return u > kErfSaturated && sa - u > kErfSaturated; };
-      auto bracket = [&](double u) {
-        return u < -kErfSaturated || u - sa > kErfSaturated ? 0.0 : erf(sa - u) + erf(u);
-      };
-      int k = 0;
-      for (; k < n; ++k)
+      // s = mᵀr = m_x·x + m_y·Y along the row (slope m_x·p per column); u = gᵀr likewise. u is linear in k, so the
+      // pixels whose bracket is exactly 2 (6 < u < √A − 6) form one run [k_a, k_b): only the cross factor there.
+      ErfRow e;
+      e.s0 = si.m.x() * x0 + si.m.y() * ry;
+      e.ds = si.m.x() * p;
+      e.u0 = si.g.x() * x0 + si.g.y() * ry;
+      e.du = si.g.x() * p;
+      e.sqrt_a = si.sqrt_a;
+      int ka = n, kb = n;
+      const double u_lo = kErfSaturated, u_hi = si.sqrt_a - kErfSaturated;
+      if (u_lo < u_hi)
       {
-        const double u = u0 + k * du;
-        if (saturated(u))
-          break;
-        w[k] = static_cast<float>(cross[k] * bracket(u));
+        double k_lo = -INFINITY, k_hi = INFINITY;  // open interval of k with u_lo < u_k < u_hi
+        if (e.du > 0.0)
+        {
+          k_lo = (u_lo - e.u0) / e.du;
+          k_hi = (u_hi - e.u0) / e.du;
+        }
+        else if (e.du < 0.0)
+        {
+          k_lo = (u_hi - e.u0) / e.du;
+          k_hi = (u_lo - e.u0) / e.du;
+        }
+        else if (!(e.u0 > u_lo && e.u0 < u_hi))
+          k_hi = k_lo;
+        const double first_k = std::max(0.0, std::floor(k_lo) + 1.0), end_k = std::min<double>(n, std::ceil(k_hi));
+        if (first_k < end_k)
+        {
+          ka = static_cast<int>(first_k);
+          kb = static_cast<int>(end_k);
+        }
       }
-      for (int j = n - 1; j > k; --j)
-      {
-        const double u = u0 + j * du;
-        if (saturated(u))
-          break;
-        w[j] = static_cast<float>(cross[j] * bracket(u));
-      }
+      // In column order (each span's last block spills into the next span, which overwrites it).
+      row_sum = erfRowLanes(e, 0, ka, false, w);
+      row_sum += erfRowLanes(e, ka, kb, true, w);
+      row_sum += erfRowLanes(e, kb, n, false, w);
     }
     Row r;
     r.row = static_cast<std::int64_t>(jr);
     r.col = static_cast<std::int64_t>(i_lo);
     r.n = n;
     r.offset = used;
-    r.sum = energy_detail::sumRow(w, n);
+    r.sum = row_sum;
     total += r.sum;
     rows_.push_back(r);
     used += static_cast<std::size_t>(n);
