@@ -33,7 +33,7 @@ bool replaceable(const fs::path& dir)
 
 void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, const EnergyStage& energy,
                         const ChainConfig& config, const Job& job, const ResultsFinisher& finish,
-                        const PlotHook& data_written)
+                        const PlotHook& data_written, const std::function<void()>& on_failure)
 {
   const fs::path dir = fs::absolute(dir_text).lexically_normal();
   if (fs::exists(dir) && (!fs::is_directory(dir) || !replaceable(dir)))
@@ -82,6 +82,8 @@ void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, 
   }
   catch (...)
   {
+    if (on_failure)
+      on_failure();
     fs::remove_all(tmp, ec);
     throw;
   }

@@ -17,7 +17,7 @@ void EnergyConfig::validate() const
   requireSetting(pixel_m > 0.0, "energy.pixel_m", "> 0", pixel_m);
   if (method != "exact" && method != "sampled")
     throw ConfigError("energy.method must be exact or sampled (got '" + method + "')");
-  // Above 1 µm a merged stroke could misplace the deposit by 3 % of its peak (1.21·tol/w at w = 35 µm).
+  // Above 1 µm a merged stroke could misplace the deposit by 5 % of its peak (1.77·tol/w at w = 35 µm).
   requireSetting(stroke_tolerance_m >= 0.0 && stroke_tolerance_m <= 1.0e-6, "energy.stroke_tolerance_m",
                  "in [0, 1e-6] m", stroke_tolerance_m);
   requireSetting(max_substep_radii > 0.0, "energy.max_substep_radii", "> 0", max_substep_radii);

@@ -3,7 +3,7 @@
 /// to src/energy).
 ///
 /// Only add, multiply, divide, compare and integer bit operations, and no FMA contraction (the AVX2 target does not
-/// enable FMA; the project builds with -ffp-contract=off where it matters): every clone of a caller (target_clones
+/// enable FMA, and the energy library builds with -ffp-contract=off): every clone of a caller (target_clones
 /// "avx2" / "default") computes the same bits, so maps do not depend on the machine's vector width.
 #pragma once
 
@@ -45,7 +45,8 @@ SCANHEAD_LANE_INLINE double laneSum(F8 sum)
   return total;
 }
 
-/// \brief e^{−x} for x ≥ 0 (x > 87 gives e^{−87} ≈ 1.6e-38 instead of less: harmless against weights ≥ 1e-6).
+/// \brief e^{−x}, x clamped to [−88, 87] (x > 87 gives e^{−87} ≈ 1.6e-38 instead of less: harmless against weights
+/// ≥ 1e-6; x < −88 gives e^{88} ≈ 1.7e38 instead of more, never garbage: 2ⁿ stays a normal float).
 ///
 /// Cephes expf (S. L. Moshier, Cephes Math Library, expf.c): e^y = 2ⁿ·e^r with n = round(y/ln 2) (by the 1.5·2²³
 /// rounding trick, round to nearest), r = y − n·ln 2 in two parts (Cody–Waite: 0.693359375 is exact in float, so
@@ -53,7 +54,8 @@ SCANHEAD_LANE_INLINE double laneSum(F8 sum)
 /// ≤ 2 ulp in float arithmetic (measured against std::exp in test_stroke_deposit.cpp).
 SCANHEAD_LANE_INLINE F8 expNeg(F8 x)
 {
-  const F8 y = -(x < splat(87.0f) ? x : splat(87.0f));
+  const F8 low = x < splat(87.0f) ? x : splat(87.0f);
+  const F8 y = -(low > splat(-88.0f) ? low : splat(-88.0f));
   const F8 round_bias = splat(12582912.0f);  // 1.5·2²³
   const F8 n = (y * splat(1.44269504088896341f) + round_bias) - round_bias;
   F8 r = y - n * splat(0.693359375f);
@@ -65,7 +67,7 @@ SCANHEAD_LANE_INLINE F8 expNeg(F8 x)
   p = p * r + splat(1.6666665459e-1f);
   p = p * r + splat(5.0000001201e-1f);
   const F8 e = (p * (r * r) + r) + splat(1.0f);
-  const I8 scale = (__builtin_convertvector(n, I8) + 127) << 23;  // 2ⁿ, n ∈ [−126, 0]
+  const I8 scale = (__builtin_convertvector(n, I8) + 127) << 23;  // 2ⁿ, n ∈ [−126, 127]
   return e * reinterpret_cast<F8>(scale);
 }
 

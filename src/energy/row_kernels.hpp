@@ -30,7 +30,7 @@ inline void gaussianWeights(double d_centre, double a, double p, double q, int h
   }
 }
 
-/// \brief Σ x[k], k < n (n a multiple of 4), in 8 float lanes combined in double: a fixed order
+/// \brief Σ x[k], k < n (any n), in 8 float lanes combined in double: a fixed order
 /// (deterministic), short add chains; relative error ~1e-7 on a row of ≤ 1e4 weights in [0, 1e3],
 /// and the stencil is normalised by these very sums, so the deposit conserves the energy anyway.
 inline double sumRow(const float* x, int n)

@@ -93,7 +93,8 @@ struct ShortRow
 /// s² + (u − c)² = (s² + u²) − 2cu + c², so W = exp(−s² − u²)·Σ_i a_i e^{−c_i²}·e^{2c_i u}: one exponential a pixel
 /// for the common Gaussian, and each node's e^{2c_i u_k} is geometric in k (ratio e^{2c_i du}): its 8 lanes are
 /// evaluated once a row and advanced by e^{16 c_i du} a block (relative error ~1e-7 a block; a short stroke's row
-/// has ≤ (2R + √A·w)/p pixels, a few blocks). |2c_i u| ≤ 2·0.5·|u| stays far inside float's range in the capsule.
+/// has ≤ (2R + √A·w)/p pixels, a few blocks). With √A ≤ 1 (kShortStroke) |2c_i u| ≤ |u|, a few units in the
+/// capsule: far inside float's range (and expNeg clamps its argument anyway).
 __attribute__((target_clones("avx2", "default"))) double shortRowLanes(const ShortRow& r, int n, float* w)
 {
   using namespace energy_detail;

@@ -124,7 +124,7 @@ struct NcInterpolator::Igt
   /// \brief Newton IGT of \p n points (x[i], y[i]) at once, each independent of the others (so of
   /// chunking): q⁰ from the predictor table, whose error is < 0.05 nm on the plane
   /// (correction_table.hpp), then one simplified Newton step q¹ = q⁰ + M (x − h(q⁰)) with M the
-  /// interpolated J⁻¹ (contraction |I − M J| < ~1e-3, so |x − h(q¹)| ~ 1e-16 m). Both residuals
+  /// interpolated J⁻¹ (contraction |I − M J| ≲ 1e-4, so |x − h(q¹)| ~ 1e-16 m). Both residuals
   /// are traced (OpticalModel::traceBlock, bit-identical to trace()): a point is accepted, as by
   /// OpticalModel::inverse, only where |x − h(q)| <= newton_tolerance_m and q is within the joint
   /// limits. Elsewhere ok[i] = 0 and q[i] is the best start for the scalar Newton. Structure of

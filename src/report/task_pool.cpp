@@ -2,6 +2,7 @@
 #include "scanhead/report/task_pool.hpp"
 
 #include <algorithm>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -53,7 +54,16 @@ void TaskPool::run()
 {
   std::vector<std::thread> helpers;
   for (unsigned k = 1; k < threads_; ++k)
-    helpers.emplace_back([this] { work(); });
+  {
+    try
+    {
+      helpers.emplace_back([this] { work(); });
+    }
+    catch (const std::system_error&)
+    {
+      break;  // no more threads to be had: the ones started (and this one) do the work
+    }
+  }
   work();
   for (std::thread& t : helpers)
     t.join();

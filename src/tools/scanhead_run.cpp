@@ -106,7 +106,11 @@ int main(int argc, char** argv)
         plotter->plot(dir);
         plots_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - plots_start).count();
       };
-    writeResultsFolder(out, metrics, chain.energy(), config, job, plots, plotter ? plotter->beginHook() : PlotHook());
+    writeResultsFolder(out, metrics, chain.energy(), config, job, plots, plotter ? plotter->beginHook() : PlotHook(),
+                       [&plotter] {
+                         if (plotter)
+                           plotter->cancel();
+                       });
     const auto end = std::chrono::steady_clock::now();
     const double wall = std::chrono::duration<double>(end - start).count();
     const double chain_s = std::chrono::duration<double>(chain_end - start).count();

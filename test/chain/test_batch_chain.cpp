@@ -114,6 +114,31 @@ TEST(BatchChain, ThreadsDoNotChangeResults)
   }
 }
 
+// An error on the consumer's side (here the progress callback) stops both threads and reaches the
+// caller: no hang, no thread left running, and the chain runs the next job normally.
+TEST(BatchChain, ConsumerErrorStopsThePipeline)
+{
+  for (const char* threads : {"1", "2"})
+  {
+    const ChainConfig config =
+        loadChainConfig(kConfig, {std::string("stream.threads=") + threads, "stream.chunk_samples=100"});
+    const OpticalModel optics = loadOpticalModel(config.optics);
+    const Job job = loadJob("corner", config.cam);
+    BatchChain chain(config, optics);
+    int calls = 0;
+    EXPECT_THROW(chain.run(job,
+                           [&](std::uint64_t, std::uint64_t) {
+                             if (++calls == 3)
+                               throw std::runtime_error("stop");
+                           }),
+                 std::runtime_error)
+        << threads;
+    EXPECT_EQ(calls, 3) << threads;
+    const RunMetrics again = chain.run(job);
+    EXPECT_EQ(metricsToYaml(again), metricsToYaml(runJob("corner", {}).metrics)) << threads;
+  }
+}
+
 // The bounded-memory paths of the energy stage do not depend on the chunking either: the track
 // thinned to every 8th laser-on sample (cap 100), a 1 MiB tile cache that spills, the nearest-path
 // contour error switched off by its cap; and thinning keeps the straight-track level within 2 %.

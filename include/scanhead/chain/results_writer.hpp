@@ -12,6 +12,7 @@
 /// each by one task, so their bytes are those of a serial write whatever the thread count.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "scanhead/chain/chain_config.hpp"
@@ -36,8 +37,10 @@ using ResultsFinisher = PlotHook;
 /// soon as metrics.yaml, job.yaml and trace.csv are in it, while the images are still being
 /// written: a plot process may start drawing what needs no image. \p finish is still called on
 /// the complete folder.
+/// \param[in] on_failure  if set, called when writing fails, before the temporary folder is removed:
+/// whatever data_written started must stop writing into it.
 /// \throws InputError if \p dir exists and is neither empty nor a previous results folder
 void writeResultsFolder(const std::string& dir, const RunMetrics& metrics, const EnergyStage& energy,
                         const ChainConfig& config, const Job& job, const ResultsFinisher& finish = {},
-                        const PlotHook& data_written = {});
+                        const PlotHook& data_written = {}, const std::function<void()>& on_failure = {});
 }  // namespace scanhead

@@ -16,7 +16,7 @@ struct EnergyConfig
   /// stroke_merger.hpp) or "sampled" (point-sampled at sub-steps of max_substep_radii: sampled_deposit.hpp).
   std::string method = "exact";
   double stroke_tolerance_m = 1.0e-8;  ///< exact: samples within this of the ideal constant-velocity stroke merge
-                                       ///< (error ≤ 1.21·tol/w of the peak)
+                                       ///< (error ≤ 1.77·tol/w of the peak)
   double max_substep_radii =
       0.5;  ///< sampled: sub-step length along the path, in spot radii w (ripple 2·exp(-π²/(2·0.5²)) = 5e-9)
   double truncation_radii =

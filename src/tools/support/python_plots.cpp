@@ -84,8 +84,9 @@ PlotProcess::PlotProcess(const std::string& script, const std::vector<std::strin
   const pid_t pid = fork();
   if (pid == 0)
   {
-    // Only async-signal-safe calls until exec: stdin from the socket, stderr to our stdout.
-    if (dup2(ends[1], STDIN_FILENO) < 0 || dup2(STDOUT_FILENO, STDERR_FILENO) < 0)
+    // Only async-signal-safe calls until exec: its own process group (so that cancel() stops the
+    // drawing processes it forks too), stdin from the socket, stderr to our stdout.
+    if (setpgid(0, 0) != 0 || dup2(ends[1], STDIN_FILENO) < 0 || dup2(STDOUT_FILENO, STDERR_FILENO) < 0)
       _exit(127);
     execv(kPython, argv.data());
     _exit(127);
@@ -96,19 +97,29 @@ PlotProcess::PlotProcess(const std::string& script, const std::vector<std::strin
     close(ends[0]);
     return;
   }
+  setpgid(pid, pid);  // also here: the group exists before cancel() can use it, whoever runs first
   pid_ = pid;
   socket_ = ends[0];
 }
 
 PlotProcess::~PlotProcess()
 {
+  cancel();
+}
+
+void PlotProcess::cancel()
+{
   if (pid_ > 0)
   {
-    kill(pid_, SIGTERM);  // the run ended without results: the plots are not wanted
+    kill(-pid_, SIGTERM);  // the script and the drawing processes it forked: the plots are not wanted
     reap(pid_);
+    pid_ = -1;
   }
   if (socket_ >= 0)
+  {
     close(socket_);
+    socket_ = -1;
+  }
 }
 
 namespace

@@ -65,6 +65,9 @@ public:
   PlotHook hook();
   /// \brief begin() as a PlotHook.
   PlotHook beginHook();
+  /// \brief Stops the script and every drawing process it started, and waits for the script (the
+  /// results will not be published: nothing may keep writing into their folder). Idempotent.
+  void cancel();
 
 private:
   std::string path_;  ///< the resolved script
