@@ -159,7 +159,7 @@ void benchmarkScaling(const ChainConfig& config, const OpticalModel& optics, con
     chain.run(job);
     const double chain_s = seconds(Clock::now() - start);
     const double machine_s = static_cast<double>(samples) * config.nc.period_s;
-    csv << spec << ',' << samples << ',' << machine_s;
+    csv << '"' << spec << "\"," << samples << ',' << machine_s;  // the spec has commas: quoted
     for (const double v : t)
       csv << ',' << v;
     csv << ',' << chain_s << '\n';
