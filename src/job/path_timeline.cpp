@@ -198,10 +198,7 @@ Eigen::Vector2d PathTimeline::positionAt(double t_s, Cursor& cursor) const
   {
     return end_;
   }
-  const PathSegment& seg = segments_[k];
-  double s = (t_s - seg.t_start_s) / seg.duration_s;
-  s = s < 0.0 ? 0.0 : (s > 1.0 ? 1.0 : s);  // t_start of the next one is rounded: stay on the segment
-  return seg.start_m + s * (seg.end_m - seg.start_m);
+  return segments_[k].pointAt(t_s);
 }
 
 double PathTimeline::powerAt(double t_s, Cursor& cursor) const

@@ -37,7 +37,7 @@ LayerQuality::Command LayerQuality::commandAt(std::uint64_t k, PathTimeline::Cur
     return c;
   const double t = static_cast<double>(k) * period_s_;
   const std::size_t segment = timeline_.segmentAt(t, cursor);
-  // PathTimeline::positionAt's arithmetic on the segment just found (one search, not two).
+  // PathTimeline::positionAt on the segment just found (one search, not two).
   if (!(t > 0.0))
     c.point = timeline_.startPoint();
   else if (segment == PathTimeline::npos)
@@ -46,11 +46,7 @@ LayerQuality::Command LayerQuality::commandAt(std::uint64_t k, PathTimeline::Cur
     return c;
   const PathSegment& s = timeline_.segments()[segment];
   if (t > 0.0)
-  {
-    double u = (t - s.t_start_s) / s.duration_s;
-    u = u < 0.0 ? 0.0 : (u > 1.0 ? 1.0 : u);  // t_start of the next one is rounded: stay on the segment
-    c.point = s.start_m + u * (s.end_m - s.start_m);
-  }
+    c.point = s.pointAt(t);
   if (!s.mark)
     c.kind = Kind::Jump;
   else

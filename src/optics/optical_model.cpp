@@ -65,19 +65,12 @@ struct RayState
   Mat32 dd;
 };
 
-/// sin and cos of \p x: Taylor polynomials (Horner in x^2) for |x| <= 0.25 rad, whose first
-/// neglected terms (x^19/19!, x^18/18!) are < 1e-26, far below one ulp; libm elsewhere.
-/// Galvo angles stay within ±0.1745 rad, so the fast path is the one taken.
-inline void sinCos(double x, double& s, double& c)
+/// The Taylor polynomials of sinCos() on a number type T (double, or the block trace's Lanes, Lanes2):
+/// the same operations lane by lane. Coefficients (-1)^k / (2k+1)! and (-1)^k / (2k)!, folded at compile time.
+template <typename T>
+inline __attribute__((always_inline)) void sinCosPolynomial(const T& x, T& s, T& c)
 {
-  if (std::abs(x) > 0.25)
-  {
-    s = std::sin(x);
-    c = std::cos(x);
-    return;
-  }
-  // Coefficients (-1)^k / (2k+1)! and (-1)^k / (2k)!, folded at compile time.
-  const double z = x * x;
+  const T z = x * x;
   s = x + x * z *
               (-1.0 / 6 +
                z * (1.0 / 120 +
@@ -90,6 +83,20 @@ inline void sinCos(double x, double& s, double& c)
                                                     z * (-1.0 / 3628800 + z * (1.0 / 479001600.0 +
                                                                                z * (-1.0 / 87178291200.0 +
                                                                                     z * (1.0 / 20922789888000.0))))))));
+}
+
+/// sin and cos of \p x: Taylor polynomials (Horner in x^2) for |x| <= 0.25 rad, whose first
+/// neglected terms (x^19/19!, x^18/18!) are < 1e-26, far below one ulp; libm elsewhere.
+/// Galvo angles stay within ±0.1745 rad, so the fast path is the one taken.
+inline void sinCos(double x, double& s, double& c)
+{
+  if (std::abs(x) > 0.25)
+  {
+    s = std::sin(x);
+    c = std::cos(x);
+    return;
+  }
+  sinCosPolynomial(x, s, c);
 }
 
 [[noreturn]] SCANHEAD_COLD void miss(const char* surface)
@@ -394,25 +401,6 @@ struct RecordFailure
   void miss(M bad, const char*) { failed |= bad; }
   void totalReflection(M bad, const char*) { failed |= bad; }
 };
-
-/// The sinCos() polynomials on a number type T (Lanes, Lanes2): the same operations lane by lane.
-template <typename T>
-SCANHEAD_INLINE void sinCosPolynomial(const T& x, T& s, T& c)
-{
-  const T z = x * x;
-  s = x + x * z *
-              (-1.0 / 6 +
-               z * (1.0 / 120 +
-                    z * (-1.0 / 5040 +
-                         z * (1.0 / 362880 + z * (-1.0 / 39916800 +
-                                                  z * (1.0 / 6227020800.0 + z * (-1.0 / 1307674368000.0 +
-                                                                                 z * (1.0 / 355687428096000.0))))))));
-  c = 1.0 + z * (-0.5 + z * (1.0 / 24 +
-                             z * (-1.0 / 720 + z * (1.0 / 40320 +
-                                                    z * (-1.0 / 3628800 + z * (1.0 / 479001600.0 +
-                                                                               z * (-1.0 / 87178291200.0 +
-                                                                                    z * (1.0 / 20922789888000.0))))))));
-}
 
 /// Lanes with |x| > 0.25 through libm, as sinCos() does.
 SCANHEAD_INLINE void sinCosOutside(Lanes x, Lanes& s, Lanes& c)

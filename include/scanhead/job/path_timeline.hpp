@@ -30,6 +30,15 @@ struct PathSegment
   double length_m = 0.0;     ///< |end − start| [m], > 0 (a dwell: 0)
   double t_start_s = 0.0;    ///< prefix sum of the previous durations [s]
   double duration_s = 0.0;   ///< length / speed [s] (a dwell: its dwell time), > 0
+
+  /// \brief The point at time \p t_s on this segment, clamped to it (the next segment's t_start_s
+  /// is rounded, so a time just past this one's end stays on it).
+  Eigen::Vector2d pointAt(double t_s) const
+  {
+    double s = (t_s - t_start_s) / duration_s;
+    s = s < 0.0 ? 0.0 : (s > 1.0 ? 1.0 : s);
+    return start_m + s * (end_m - start_m);
+  }
 };
 
 /// \brief The job as a gapless sequence of segments starting at t = 0 at rest at its first point.
