@@ -547,9 +547,9 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
   }
 
   SetpointSample* const setpoints = out.setpoint.samples.data();
-  if (!st.adaptive && !config_.debug)
+  if (!st.adaptive)
   {
-    // The fixed filters without debug signals: Q_filt2 and its derivatives as the filters give them.
+    // The fixed filters: Q_filt2 and its derivatives as the filters give them.
     for (std::size_t i = 0; i < count; ++i)
     {
       SetpointSample& sp = setpoints[i];
@@ -567,7 +567,27 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
       sp.acceleration = derivative.tail<2>();
       st.plane_speeds[i] = speed_power ? st.plane_derivative[i].norm() : 0.0;
     }
-    if (count > 0)
+    if (config_.debug)
+    {
+      // Q_inter's backward differences need the solutions one by one (the same shift as below).
+      for (std::size_t i = 0; i < count; ++i)
+      {
+        const Eigen::Vector2d q = st.q_igt[i];
+        st.q_prev2 = st.q_prev;
+        st.q_prev = q;
+        NcDebugSample& dbg = out.debug.samples[i];
+        dbg.x_inter = st.x_inter[i];
+        dbg.q_inter = q;
+        dbg.q_inter_velocity = (q - st.q_prev2) / ts;
+        dbg.q_inter_acceleration = (q - 2.0 * st.q_prev2 + st.q_inter_prev2) / (ts * ts);
+        st.q_inter_prev2 = st.q_prev2;
+        st.inter_rate_fir1.push(dbg.q_inter_velocity);
+        dbg.q_filt1 = st.q_filt1[i];
+        dbg.q_filt1_velocity = st.q_filt1_dot[i];
+        dbg.q_filt1_acceleration = st.inter_rate_fir1.derivative();
+      }
+    }
+    else if (count > 0)
     {
       st.q_prev2 = count > 1 ? st.q_igt[count - 2] : st.q_prev;
       st.q_prev = st.q_igt[count - 1];
@@ -575,73 +595,39 @@ NcOutput NcInterpolator::process(std::size_t max_samples)
   }
   else
   {
+    // The adaptive filter: Q_filt2 is the IGT of X_filt2, its derivatives through J⁻¹.
     for (std::size_t i = 0; i < count; ++i)
     {
       const std::uint64_t n = st.next + i;
       const double t_s = static_cast<double>(n) * ts;
       const Eigen::Vector2d& x = st.x_inter[i];
-      SetpointSample& sp = out.setpoint.samples[i];
-      double plane_speed = 0.0;
-
-      if (!st.adaptive)
+      SetpointSample& sp = setpoints[i];
+      const PlaneState& filt2 = st.filt2[i];
+      const Eigen::Vector2d q = st.q_igt[i];
+      st.q_prev2 = st.q_prev;
+      st.q_prev = q;
+      const Eigen::Matrix2d inverse_jacobian = optics_.jacobian(q).inverse();
+      sp.position = q;
+      sp.velocity = inverse_jacobian * filt2.velocity;
+      sp.acceleration = inverse_jacobian * (filt2.acceleration - jacobianRateTimesVelocity(optics_, q, sp.velocity));
+      st.plane_speeds[i] = filt2.velocity.norm();
+      if (config_.debug)
       {
-        const Eigen::Vector2d q = st.q_igt[i];
-        st.q_prev2 = st.q_prev;
-        st.q_prev = q;
-        const Eigen::Vector2d s = st.s_and_rate[i].head<2>();
-        sp.position = t2_identity ? s : Eigen::Vector2d(st.filt2_average[i].head<2>());
-        sp.velocity = t2_identity ? Eigen::Vector2d(st.s_and_rate[i].tail<2>())
-                                  : Eigen::Vector2d(st.filt2_derivative[i].head<2>());
-        sp.acceleration = st.filt2_derivative[i].tail<2>();
-        if (speed_power)
-        {
-          plane_speed = st.plane_derivative[i].norm();
-        }
-        if (config_.debug)
-        {
-          NcDebugSample& dbg = out.debug.samples[i];
-          dbg.x_inter = x;
-          dbg.q_inter = q;
-          dbg.q_inter_velocity = (q - st.q_prev2) / ts;
-          dbg.q_inter_acceleration = (q - 2.0 * st.q_prev2 + st.q_inter_prev2) / (ts * ts);
-          st.q_inter_prev2 = st.q_prev2;
-          st.inter_rate_fir1.push(dbg.q_inter_velocity);
-          dbg.q_filt1 = st.q_filt1[i];
-          dbg.q_filt1_velocity = st.q_filt1_dot[i];
-          dbg.q_filt1_acceleration = st.inter_rate_fir1.derivative();
-        }
+        NcDebugSample& dbg = out.debug.samples[i];
+        const PlaneState filt1 = st.adaptive_fir.firstStage(t_s, st.filt1_cursor);
+        dbg.x_inter = x;
+        dbg.q_inter = solveOrAbandon(x, st.q_inter_prev, n, t_s, "debug point");
+        dbg.q_inter_velocity = (dbg.q_inter - st.q_inter_prev) / ts;
+        dbg.q_inter_acceleration = (dbg.q_inter - 2.0 * st.q_inter_prev + st.q_inter_prev2) / (ts * ts);
+        st.q_inter_prev2 = st.q_inter_prev;
+        st.q_inter_prev = dbg.q_inter;
+        dbg.q_filt1 = solveOrAbandon(filt1.position, q, n, t_s, "debug point");
+        const Eigen::Matrix2d filt1_inverse_jacobian = optics_.jacobian(dbg.q_filt1).inverse();
+        dbg.q_filt1_velocity = filt1_inverse_jacobian * filt1.velocity;
+        dbg.q_filt1_acceleration =
+            filt1_inverse_jacobian *
+            (filt1.acceleration - jacobianRateTimesVelocity(optics_, dbg.q_filt1, dbg.q_filt1_velocity));
       }
-      else
-      {
-        const PlaneState& filt2 = st.filt2[i];
-        const Eigen::Vector2d q = st.q_igt[i];
-        st.q_prev2 = st.q_prev;
-        st.q_prev = q;
-        const Eigen::Matrix2d inverse_jacobian = optics_.jacobian(q).inverse();
-        sp.position = q;
-        sp.velocity = inverse_jacobian * filt2.velocity;
-        sp.acceleration = inverse_jacobian * (filt2.acceleration - jacobianRateTimesVelocity(optics_, q, sp.velocity));
-        plane_speed = filt2.velocity.norm();
-        if (config_.debug)
-        {
-          NcDebugSample& dbg = out.debug.samples[i];
-          const PlaneState filt1 = st.adaptive_fir.firstStage(t_s, st.filt1_cursor);
-          dbg.x_inter = x;
-          dbg.q_inter = solveOrAbandon(x, st.q_inter_prev, n, t_s, "debug point");
-          dbg.q_inter_velocity = (dbg.q_inter - st.q_inter_prev) / ts;
-          dbg.q_inter_acceleration = (dbg.q_inter - 2.0 * st.q_inter_prev + st.q_inter_prev2) / (ts * ts);
-          st.q_inter_prev2 = st.q_inter_prev;
-          st.q_inter_prev = dbg.q_inter;
-          dbg.q_filt1 = solveOrAbandon(filt1.position, q, n, t_s, "debug point");
-          const Eigen::Matrix2d filt1_inverse_jacobian = optics_.jacobian(dbg.q_filt1).inverse();
-          dbg.q_filt1_velocity = filt1_inverse_jacobian * filt1.velocity;
-          dbg.q_filt1_acceleration =
-              filt1_inverse_jacobian *
-              (filt1.acceleration - jacobianRateTimesVelocity(optics_, dbg.q_filt1, dbg.q_filt1_velocity));
-        }
-      }
-
-      st.plane_speeds[i] = plane_speed;
     }
   }
 
