@@ -48,19 +48,18 @@ void addDisc(const Eigen::Vector2d& c, double radius, double y, double& lo, doub
   hi = std::max(hi, c.x() + half);
 }
 
-/// \brief Σ_i amp[i]·exp(−e[i] − α(k − centre[i])²) for ≤ 4 Gaussians of one curvature α ≥ 0 along a row.
-struct GaussianSum
+/// \brief exp(−e − α(k − centre)²) along a row, α ≥ 0: a dwell's footprint on one row.
+struct RowGaussian
 {
-  int nodes = 0;
-  double amp[4] = {}, e[4] = {}, centre[4] = {};
+  double e = 0.0, centre = 0.0;
   double alpha = 0.0;
 };
 
-/// \brief w[k] = the GaussianSum at column k, k < n rounded up to a multiple of 8 (w has room for it).
+/// \brief w[k] = the RowGaussian at column k, k < n rounded up to a multiple of 8 (w has room for it).
 ///
 /// 8 columns a block, every exponential evaluated (lane_math.hpp: no recurrence, so no error growth along a row);
 /// k − centre is formed in double and rounded once, so a row far from the origin keeps float's relative precision.
-__attribute__((target_clones("avx2", "default"))) double gaussianSumLanes(const GaussianSum& g, int n, float* w)
+__attribute__((target_clones("avx2", "default"))) double rowGaussianLanes(const RowGaussian& g, int n, float* w)
 {
   using namespace energy_detail;
   const F8 lane = laneIndex();
@@ -68,12 +67,8 @@ __attribute__((target_clones("avx2", "default"))) double gaussianSumLanes(const 
   const F8 alpha = splat(static_cast<float>(g.alpha));
   for (int k0 = 0; k0 < n; k0 += 8)
   {
-    F8 sum = splat(0.0f);
-    for (int i = 0; i < g.nodes; ++i)
-    {
-      const F8 t = splat(static_cast<float>(k0 - g.centre[i])) + lane;
-      sum += splat(static_cast<float>(g.amp[i])) * expNeg(splat(static_cast<float>(g.e[i])) + alpha * (t * t));
-    }
+    const F8 t = splat(static_cast<float>(k0 - g.centre)) + lane;
+    const F8 sum = expNeg(splat(static_cast<float>(g.e)) + alpha * (t * t));
     std::memcpy(w + k0, &sum, sizeof sum);
     accumulate(total, sum, n - k0);
   }
@@ -247,13 +242,11 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
       // exp(−rᵀQr) = exp(−(det Q/q_xx)·Y²)·exp(−q_xx(X − X*)²), X* = −q_xy·Y/q_xx (r from the midpoint).
       const double yy = ry - si.centre.y();
       const double xs = si.centre.x() - si.qxy / si.qxx * yy;  // X* in c0's frame
-      GaussianSum g;
-      g.nodes = 1;
-      g.amp[0] = 1.0;
-      g.e[0] = (si.qxx * si.qyy - si.qxy * si.qxy) / si.qxx * yy * yy;
-      g.centre[0] = (xs - x0) / p;
+      RowGaussian g;
+      g.e = (si.qxx * si.qyy - si.qxy * si.qxy) / si.qxx * yy * yy;
+      g.centre = (xs - x0) / p;
       g.alpha = alpha_stationary;
-      row_sum = gaussianSumLanes(g, n, w);
+      row_sum = rowGaussianLanes(g, n, w);
     }
     else if (si.sqrt_a <= kShortStroke)
     {
