@@ -9,6 +9,8 @@
 
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/staged_folder.hpp"
+#include "scanhead/common/stop_request.hpp"
 #include "scanhead/job/formats/job_io.hpp"
 #include "scanhead/job/job_stats.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
@@ -23,31 +25,44 @@ namespace fs = std::filesystem;
 
 namespace
 {
-
 /// A folder the writer may replace: empty, or written by an earlier run.
-bool replaceable(const fs::path& dir)
+void checkReplaceable(const fs::path& dir)
 {
-  return fs::is_empty(dir) || fs::exists(dir / kResultsMarker);
+  std::error_code ec;
+  if (!fs::exists(dir, ec))
+    return;
+  if (!fs::is_directory(dir, ec) || !(fs::is_empty(dir, ec) || fs::exists(dir / kResultsMarker, ec)))
+    throw InputError(dir.string() + ": exists and is not a scanhead results folder; choose another --out");
 }
 }  // namespace
 
-void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, const EnergyStage& energy,
+FolderLock lockResultsFolder(const std::string& dir, std::vector<std::string>* removed)
+{
+  FolderLock lock(dir);
+  checkReplaceable(lock.folder());
+  const std::vector<std::string> stale = StagedFolder::removeStale(lock);
+  if (removed != nullptr)
+    *removed = stale;
+  return lock;
+}
+
+void writeResultsFolder(const std::string& dir, const RunMetrics& metrics, const EnergyStage& energy,
                         const ChainConfig& config, const Job& job, const ResultsFinisher& finish,
                         const PlotHook& data_written, const std::function<void()>& on_failure)
 {
-  const fs::path dir = fs::absolute(dir_text).lexically_normal();
-  if (fs::exists(dir) && (!fs::is_directory(dir) || !replaceable(dir)))
-    throw InputError(dir.string() + ": exists and is not a scanhead results folder; choose another --out");
-  const fs::path parent = dir.parent_path();
-  std::error_code ec;
-  fs::create_directories(parent, ec);
-  if (ec)
-    throw InputError(parent.string() + ": cannot create (" + ec.message() + ")");
-  const fs::path tmp = parent / ("." + dir.filename().string() + ".partial");
-  fs::remove_all(tmp);
+  writeResultsFolder(lockResultsFolder(dir), metrics, energy, config, job, finish, data_written, on_failure);
+}
+
+void writeResultsFolder(const FolderLock& lock, const RunMetrics& metrics, const EnergyStage& energy,
+                        const ChainConfig& config, const Job& job, const ResultsFinisher& finish,
+                        const PlotHook& data_written, const std::function<void()>& on_failure)
+{
+  checkReplaceable(lock.folder());
+  throwIfStopRequested();
+  StagedFolder staging(lock);  // removed on every way out but publish()
+  const fs::path tmp = staging.path();
   try
   {
-    fs::create_directory(tmp);
     writeTextFile(tmp / kResultsMarker, "written by scanhead\n");
     // Every file is independent of the others: written side by side, the longest first (on the
     // THESIS layer: the energy overview, which reads the whole tiled map); each file's bytes are
@@ -74,17 +89,34 @@ void writeResultsFolder(const std::string& dir_text, const RunMetrics& metrics, 
     if (energy.thermal() != nullptr)
       pool.add([&] { writeThermalImages(tmp.string(), *energy.thermal()); });
     pool.run();
+    throwIfStopRequested();
     if (finish)
       finish(tmp.string());
-    if (fs::exists(dir))
-      fs::remove_all(dir);
-    fs::rename(tmp, dir);
+    throwIfStopRequested();  // the last moment a stop still leaves the previous folder in place
+    checkReplaceable(lock.folder());
+    staging.publish();
+  }
+  catch (const StopRequested&)
+  {
+    if (on_failure)
+      on_failure();
+    throw;  // the staging folder goes with `staging`
+  }
+  catch (const std::exception& e)
+  {
+    if (on_failure)
+      on_failure();
+    // Name the target's files, not the staging folder's, and a full disk as such (measured now,
+    // before the staging folder is removed).
+    const std::string message = staging.explain(e.what());
+    if (message == e.what())
+      throw;
+    throw InputError(message);
   }
   catch (...)
   {
     if (on_failure)
       on_failure();
-    fs::remove_all(tmp, ec);
     throw;
   }
 }

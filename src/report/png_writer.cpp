@@ -102,7 +102,7 @@ void writeFile(const std::string& path, const std::vector<std::uint8_t>& bytes)
   f.close();
   if (!f)
   {
-    throw std::runtime_error("png: writing '" + path + "' failed");
+    throw std::runtime_error("png: writing '" + path + "' failed: " + std::strerror(errno));
   }
 }
 }  // namespace

@@ -279,8 +279,9 @@ void writeFloatTiff(const std::string& path, int width, int height, const float*
     f.close();
     if (!f)
     {
+      const std::string why = std::strerror(errno);
       std::remove(tmp.c_str());
-      throw InputError(path + ": writing the TIFF to " + tmp + " failed (disk full?)");
+      throw InputError(path + ": writing the TIFF to " + tmp + " failed (" + why + ")");
     }
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0)

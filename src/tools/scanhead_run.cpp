@@ -1,6 +1,10 @@
 // scanhead_run: the whole virtual machine in one process (batch runner).
+#include <signal.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -10,6 +14,7 @@
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/chain/results_writer.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/stop_request.hpp"
 #include "scanhead/job/formats/job_io.hpp"
 #include "scanhead/job/job_files.hpp"
 #include "scanhead/job/job_stats.hpp"
@@ -51,11 +56,54 @@ bool parse(int argc, char** argv, Arguments& a)
   app.add_flag("--quiet", a.quiet, "no job statistics, progress or metrics table; the run line only");
   return scanhead::parseCommandLine(app, argc, argv);
 }
+
+/// SIGINT, SIGTERM, SIGHUP: the first asks the run to stop (the chain's progress callback, the
+/// results writer and the plot wait see it and unwind, removing the staging folder and the plot
+/// process); a second one ends the process at once (the next run on the folder removes what is
+/// left). Only async-signal-safe calls here: an atomic store, write, sigaction, raise.
+extern "C" void onStopSignal(int signal)
+{
+  if (scanhead::stopRequest() != 0)
+  {
+    struct sigaction default_action = {};
+    default_action.sa_handler = SIG_DFL;
+    sigaction(signal, &default_action, nullptr);
+    raise(signal);
+    return;
+  }
+  scanhead::requestStop(signal);
+  static const char message[] =
+      "\nscanhead_run: stopping, removing what this run wrote (signal again to end at once)\n";
+  const ssize_t ignored = write(STDERR_FILENO, message, sizeof(message) - 1);
+  (void)ignored;
+}
+
+void installStopHandlers()
+{
+  struct sigaction action = {};
+  action.sa_handler = onStopSignal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = 0;  // no SA_RESTART: a blocking call returns EINTR and its caller checks the request
+  for (int signal : {SIGINT, SIGTERM, SIGHUP})
+    sigaction(signal, &action, nullptr);
+}
+
+/// Appended to a failure of the results: what became of the folder.
+std::string folderState(const std::string& out)
+{
+  std::error_code ec;
+  return std::filesystem::exists(out, ec) ? "the previous results in " + out + " are unchanged"
+                                          : "nothing was written to " + out;
+}
+
+constexpr const char* kNoPlotsHint = "; --plots none writes the results without starting python";
 }  // namespace
 
 int main(int argc, char** argv)
 {
   using namespace scanhead;
+  installStopHandlers();
+  std::string out;
   try
   {
     Arguments args;
@@ -65,7 +113,12 @@ int main(int argc, char** argv)
     const OpticalModel optics = loadOpticalModel(config.optics);
     Job job = loadJob(args.job, config.cam);
     validateScanJob(job, config.optics.field_half_width_m);
-    const std::string out = args.out.empty() ? "results/" + job.name : args.out;
+    out = args.out.empty() ? "results/" + job.name : args.out;
+    // The folder is ours before anything is computed: a second run on it fails now, naming this one.
+    std::vector<std::string> stale;
+    const FolderLock lock = lockResultsFolder(out, &stale);
+    for (const std::string& path : stale)
+      std::fprintf(stderr, "scanhead_run: removed %s, left by a run that was killed\n", path.c_str());
     if (!args.quiet)
     {
       const JobStats stats = computeJobStats(job, config.nc.implicit_jump_speed_mps);
@@ -79,7 +132,16 @@ int main(int argc, char** argv)
     BatchChain chain(config, optics);
     int last_percent = -1;
     const auto start = std::chrono::steady_clock::now();
+    std::uint64_t plotter_checked = 0;
     const RunMetrics metrics = chain.run(job, [&](std::uint64_t done, std::uint64_t total) {
+      throwIfStopRequested();
+      // A plot script that already ended has failed (no matplotlib?): stop now, not after the run.
+      if (plotter && done - plotter_checked >= 65536)
+      {
+        plotter_checked = done;
+        if (plotter->ended())
+          throw PlotError(plotter->failure() + kNoPlotsHint);
+      }
       const int percent = static_cast<int>(100 * done / total);
       if (!args.quiet && total > 200000 && percent != last_percent)
       {
@@ -95,6 +157,7 @@ int main(int argc, char** argv)
       }
       last_percent = percent;
     });
+    throwIfStopRequested();
     if (!args.quiet && metrics.samples > 200000)
       std::fprintf(stderr, "measuring the layer and writing %s ...\n", out.c_str());
     const auto chain_end = std::chrono::steady_clock::now();
@@ -103,14 +166,26 @@ int main(int argc, char** argv)
     if (plotter)
       plots = [&](const std::string& dir) {
         const auto plots_start = std::chrono::steady_clock::now();
-        plotter->plot(dir);
+        if (!plotter->plot(dir))
+          throw PlotError(plotter->failure() + kNoPlotsHint);
         plots_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - plots_start).count();
       };
-    writeResultsFolder(out, metrics, chain.energy(), config, job, plots, plotter ? plotter->beginHook() : PlotHook(),
-                       [&plotter] {
-                         if (plotter)
-                           plotter->cancel();
-                       });
+    try
+    {
+      writeResultsFolder(lock, metrics, chain.energy(), config, job, plots, plotter ? plotter->beginHook() : PlotHook(),
+                         [&plotter] {
+                           if (plotter)
+                             plotter->cancel();
+                         });
+    }
+    catch (const StopRequested&)
+    {
+      throw;
+    }
+    catch (const std::exception& e)
+    {
+      throw InputError(std::string(e.what()) + "; " + folderState(out));
+    }
     const auto end = std::chrono::steady_clock::now();
     const double wall = std::chrono::duration<double>(end - start).count();
     const double chain_s = std::chrono::duration<double>(chain_end - start).count();
@@ -125,6 +200,13 @@ int main(int argc, char** argv)
     if (!args.quiet)
       std::cout << "results written to " << out << "/\n";
     return 0;
+  }
+  catch (const StopRequested& stop)
+  {
+    // Everything this run started is gone by now (the unwinding removed it).
+    std::cerr << "scanhead_run: " << stop.what() << "; " << (out.empty() ? "nothing written" : folderState(out))
+              << "\n";
+    return 128 + stop.signal();
   }
   catch (const std::exception& e)
   {

@@ -7,6 +7,6 @@
 namespace scanhead
 {
 /// \brief Writes \p text to \p path (binary, replacing the file).
-/// \throws InputError "<path>: cannot write" if the file cannot be written
+/// \throws InputError "<path>: cannot write (<strerror>)" if the file cannot be written
 void writeTextFile(const std::string& path, const std::string& text);
 }  // namespace scanhead

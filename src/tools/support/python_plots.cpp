@@ -1,7 +1,9 @@
 /// \file python_plots.cpp
 #include "python_plots.hpp"
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
@@ -10,9 +12,13 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/package_path.hpp"
+#include "scanhead/common/stop_request.hpp"
 
 namespace scanhead
 {
@@ -34,6 +40,45 @@ int reap(pid_t pid)
     if (errno != EINTR)
       return -1;
   return status;
+}
+
+/// Whether process group \p group has a member that is not a zombie (a zombie writes nothing; an
+/// orphan's zombie waits for whatever reaps orphans here, which may be slow or nothing).
+bool groupAlive(pid_t group)
+{
+  if (kill(-group, 0) != 0)
+    return false;
+  DIR* proc = opendir("/proc");
+  if (proc == nullptr)
+    return true;
+  bool alive = false;
+  while (const dirent* entry = readdir(proc))
+  {
+    if (entry->d_name[0] < '1' || entry->d_name[0] > '9')
+      continue;
+    std::ifstream file(std::string("/proc/") + entry->d_name + "/stat");
+    std::string stat;
+    std::getline(file, stat);
+    // "pid (comm) state ppid pgrp ...": comm may hold spaces and parentheses; the last ')' ends it.
+    const std::size_t close = stat.rfind(')');
+    if (close == std::string::npos)
+      continue;
+    char state = 0;
+    long ppid = 0, pgrp = 0;
+    if (std::sscanf(stat.c_str() + close + 1, " %c %ld %ld", &state, &ppid, &pgrp) == 3 && pgrp == group &&
+        state != 'Z' && state != 'X')
+    {
+      alive = true;
+      break;
+    }
+  }
+  closedir(proc);
+  return alive;
+}
+
+void sleepMs(int ms)
+{
+  poll(nullptr, 0, ms);
 }
 }  // namespace
 
@@ -63,7 +108,11 @@ PlotHook pythonPlotHook(const std::string& script, const std::string& what)
 
 PlotHook plotFinisher()
 {
-  return pythonPlotHook("scripts/plot_results.py");
+  return [](const std::string& dir) {
+    PlotProcess plots("scripts/plot_results.py", {"--plots", "all"});
+    if (!plots.plot(dir))
+      throw PlotError(plots.failure());
+  };
 }
 
 PlotProcess::PlotProcess(const std::string& script, const std::vector<std::string>& arguments, const std::string& what)
@@ -99,6 +148,7 @@ PlotProcess::PlotProcess(const std::string& script, const std::vector<std::strin
   }
   setpgid(pid, pid);  // also here: the group exists before cancel() can use it, whoever runs first
   pid_ = pid;
+  group_ = pid;
   socket_ = ends[0];
 }
 
@@ -115,6 +165,21 @@ void PlotProcess::cancel()
     reap(pid_);
     pid_ = -1;
   }
+  if (group_ > 0)
+  {
+    // The drawing processes outlive the script by a moment: wait until none is left (2 s, then
+    // SIGKILL), since the caller removes the folder they write into next. (Signalled only while
+    // a member is left: the group's id cannot be reused before it is empty.)
+    for (int waited = 0; groupAlive(group_); waited += 10)
+    {
+      if (waited == 2000)
+        kill(-group_, SIGKILL);
+      if (waited > 4000)
+        break;
+      sleepMs(10);
+    }
+    group_ = -1;
+  }
   if (socket_ >= 0)
   {
     close(socket_);
@@ -122,6 +187,27 @@ void PlotProcess::cancel()
   }
 }
 
+bool PlotProcess::judge(int status)
+{
+  std::string how;
+  if (status < 0)
+    how = "could not be waited for";
+  else if (WIFSIGNALED(status))
+    how = "was killed by " + signalName(WTERMSIG(status));
+  else if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
+    how = std::string("could not be started (") + kPython + " missing?)";
+  else if (WIFEXITED(status) && WEXITSTATUS(status) != 0)
+    how = "exited with status " + std::to_string(WEXITSTATUS(status)) +
+          " (its message is above; is python3-matplotlib installed?)";
+  else if (!sent_)
+    how = "stopped reading the folder to plot";
+  else if (!used_)
+    how = "ended before the data was written";
+  if (how.empty())
+    return true;
+  failure_ = what_ + " failed: " + path_ + " " + how;
+  return false;
+}
 namespace
 {
 /// Sends all of \p text on \p socket; false if the reader is gone.
@@ -148,31 +234,77 @@ void PlotProcess::begin(const std::string& dir)
   sent_ = sendAll(socket_, dir + "\n");
 }
 
+bool PlotProcess::ended()
+{
+  if (ended_)
+    return true;
+  if (pid_ <= 0 || used_)
+    return false;
+  int status = 0;
+  const pid_t got = waitpid(pid_, &status, WNOHANG);
+  if (got == 0 || (got < 0 && errno == EINTR))
+    return false;
+  pid_ = -1;
+  ended_ = true;
+  judge(got > 0 ? status : -1);
+  return true;
+}
+
 bool PlotProcess::plot(const std::string& dir)
 {
   if (used_)
     return false;
+  if (ended())
+  {
+    used_ = true;
+    return false;  // failure_ says how it ended
+  }
   used_ = true;
   if (pid_ < 0)
   {
-    warnSkipped(what_, path_);  // could not start (no socket pair or fork)
+    failure_ = what_ + " failed: " + path_ + " could not be started (no socket pair or fork)";
     return false;
   }
   begin(dir);
   sent_ = sendAll(socket_, "images\n") && sent_;
   close(socket_);
   socket_ = -1;
-  const int status = reap(pid_);
+  // Polled rather than a blocking waitpid: a signal may be delivered to any of this process'
+  // threads, so the wait would not see EINTR; the stop request is seen within 10 ms.
+  int status = -1;
+  for (;;)
+  {
+    const pid_t got = waitpid(pid_, &status, WNOHANG);
+    if (got == pid_)
+      break;
+    if (got < 0 && errno != EINTR)
+    {
+      status = -1;
+      break;
+    }
+    if (stopRequest() != 0)
+    {
+      cancel();
+      throwIfStopRequested();
+    }
+    sleepMs(10);
+  }
   pid_ = -1;
-  if (sent_ && status >= 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0)
-    return true;
-  warnSkipped(what_, path_);
-  return false;
+  if (!judge(status))
+  {
+    cancel();  // drawing processes it left
+    return false;
+  }
+  group_ = -1;  // ended cleanly: it waited for its drawing processes
+  return true;
 }
 
 PlotHook PlotProcess::hook()
 {
-  return [this](const std::string& dir) { plot(dir); };
+  return [this](const std::string& dir) {
+    if (!plot(dir))
+      throw PlotError(failure_);
+  };
 }
 
 PlotHook PlotProcess::beginHook()

@@ -3,14 +3,17 @@
 /// system python3: the plot hook the command-line tools and the ROS nodes hand to the core.
 ///
 /// The core only writes data files and calls a PlotHook (common/plot_hook.hpp) when they are
-/// complete; it never starts a program. Plots are never essential: a script that fails (most
-/// often: python3-matplotlib not installed) costs the plots and a warning on stderr, never the
-/// results.
+/// complete; it never starts a program. The results folder's plots (plotFinisher(), PlotProcess)
+/// are part of the results: a script that fails or is killed throws PlotError, and the folder is
+/// not published (`--plots none` runs no python at all). The other tools' charts
+/// (runPythonScript, pythonPlotHook) are extras beside files already written: a failure costs the
+/// chart and a warning on stderr.
 #pragma once
 
 #include <sys/types.h>
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -18,6 +21,13 @@
 
 namespace scanhead
 {
+/// \brief The plots asked for could not be made: names the script and how it failed.
+class PlotError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
 /// \brief Runs a package script (path resolved with resolvePackagePath) with /usr/bin/python3 and
 /// \p arguments, each word single-quoted for the shell; its output goes to this process' stdout.
 /// \param[in] what  names the plots in the warning ("scanhead: <what> skipped (...)")
@@ -30,7 +40,9 @@ bool runPythonScript(const std::string& script, const std::vector<std::string>& 
 PlotHook pythonPlotHook(const std::string& script, const std::string& what = "plots");
 
 /// \brief The results folder's hook (writeResultsFolder's finisher): scripts/plot_results.py on the
-/// folder (energy_map_plot.png, speed.png, contour_error.png, corner_zoom.png, quality.png).
+/// folder (energy_map_plot.png, speed.png, contour_error.png, corner_zoom.png, quality.png), run as
+/// a PlotProcess (its own process group, cancelled on a stop request).
+/// The hook throws PlotError if the script fails or is killed (the folder is then not published).
 PlotHook plotFinisher();
 
 /// \brief A plot script started before its data exists: `python3 <script> <arguments> --serve`
@@ -40,8 +52,9 @@ PlotHook plotFinisher();
 ///
 /// The script's stdin is one end of a socket pair (a send to a script that died reports an
 /// error instead of raising SIGPIPE); its stdout and stderr go to this process' stdout, as with
-/// runPythonScript. Destroying an unused PlotProcess (the run failed) ends the script with
-/// SIGTERM and reaps it.
+/// runPythonScript. It runs in a process group of its own (a terminal's Ctrl-C reaches only this
+/// process, which then cancels it). Destroying an unused PlotProcess (the run failed) ends the
+/// script and its drawing processes and reaps it.
 class PlotProcess
 {
 public:
@@ -56,27 +69,45 @@ public:
   void begin(const std::string& dir);
 
   /// \brief Hands \p dir to the script (unless begin() did), then the line "images" (the
-  /// folder is complete), and waits for the script to finish drawing.
-  /// \return false, with the warning of runPythonScript on stderr, if the script failed or
-  /// could not start; a second call returns false without a warning.
+  /// folder is complete), and waits for the script to finish drawing, polling the stop request
+  /// (common/stop_request) every 10 ms.
+  /// \return false if the script failed, was killed or could not start (failure() says how); a
+  /// second call returns false
+  /// \throws StopRequested on a stop request (the script is cancelled first)
   bool plot(const std::string& dir);
 
-  /// \brief plot() as a PlotHook; the PlotProcess must outlive the hook's use.
+  /// \brief Why plot() failed, or why the script already ended (see ended()): "<what> failed:
+  /// <script> was killed by SIGKILL", "... exited with status 1 (is python3-matplotlib installed?)".
+  const std::string& failure() const { return failure_; }
+
+  /// \brief Whether the script has already ended before plot() (it failed: a served script only
+  /// ends after "images"); failure() then says how. Cheap (one waitpid WNOHANG): a caller polls it
+  /// while the chain runs, so a missing matplotlib stops a long run at once.
+  bool ended();
+
+  /// \brief plot() as a PlotHook that throws PlotError(failure()) if plot() fails; the PlotProcess
+  /// must outlive the hook's use.
   PlotHook hook();
   /// \brief begin() as a PlotHook.
   PlotHook beginHook();
-  /// \brief Stops the script and every drawing process it started, and waits for the script (the
-  /// results will not be published: nothing may keep writing into their folder). Idempotent.
+  /// \brief Stops the script and every drawing process it started, and waits until they are gone
+  /// (the results will not be published: nothing may keep writing into their folder). Idempotent.
   void cancel();
 
 private:
+  /// Records how the script ended (from its wait status) in failure_ unless it succeeded.
+  bool judge(int status);
+
   std::string path_;  ///< the resolved script
   std::string what_;
+  std::string failure_;
   pid_t pid_ = -1;      ///< -1: not started or already reaped
+  pid_t group_ = -1;    ///< the script's process group, until cancel() saw it empty
   int socket_ = -1;     ///< our end of the script's stdin
   bool sent_ = true;    ///< every line so far reached the script
   bool begun_ = false;  ///< begin() was called
   bool used_ = false;   ///< plot() was called
+  bool ended_ = false;  ///< the script was reaped before plot(); failure_ says how
 };
 
 /// \brief `--plots` of the tools that write results folders: none (no python at all), summary
