@@ -19,7 +19,11 @@ Every figure is drawn from bounded data (the trace holds at most 20000 rows, the
 read as block maxima of at most 1000 pixels a side, the commanded path is drawn only up to 20000
 points, the contour error for at most 5000 points) so the plots cost about the same whatever the
 job; the figures are drawn in forked processes when two cores are available.
+
+Exit status: 0 when every plot is written, 28 (ENOSPC) when the disk (or a quota) is full, so that
+the caller can say so (the partial PNG is removed by the writer), 1 on any other failure.
 """
+import errno
 import io
 import os
 import re
@@ -320,6 +324,13 @@ def draw(folder, which, data):
             plot_corner(folder, trace, job, metrics)
 
 
+DISK_FULL = errno.ENOSPC  # the exit status of a run that found the disk full
+
+
+def disk_full(error):
+    return isinstance(error, OSError) and error.errno in (errno.ENOSPC, errno.EDQUOT)
+
+
 def fork_draw(folder, which, data):
     """draw() in a forked process (matplotlib is imported already); returns its pid."""
     pid = os.fork()
@@ -328,9 +339,10 @@ def fork_draw(folder, which, data):
         try:
             draw(folder, which, data)
             code = 0
-        except BaseException:
+        except BaseException as error:
             import traceback
             traceback.print_exc()
+            code = DISK_FULL if disk_full(error) else 1
         finally:
             sys.stdout.flush()
             sys.stderr.flush()
@@ -365,6 +377,9 @@ def plot_folder(folder, plots="all", images_ready=None):
         draw(folder, own, data)
     finally:
         statuses = [os.waitpid(pid, 0)[1] for pid in pids]
+    if any(os.WIFEXITED(s) and os.WEXITSTATUS(s) == DISK_FULL for s in statuses):
+        print("plot_results.py: no space left on device", file=sys.stderr)
+        sys.exit(DISK_FULL)
     if any(statuses):
         sys.exit("plot_results.py: a drawing process failed (its message above)")
 
@@ -403,4 +418,10 @@ def main(argv):
     plot_folder(folders[0], plots)
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    try:
+        main(sys.argv[1:])
+    except OSError as error:
+        if not disk_full(error):
+            raise
+        print("plot_results.py: no space left on device: %s" % error, file=sys.stderr)
+        sys.exit(DISK_FULL)

@@ -85,7 +85,13 @@ void installStopHandlers()
   sigemptyset(&action.sa_mask);
   action.sa_flags = 0;  // no SA_RESTART: a blocking call returns EINTR and its caller checks the request
   for (int signal : {SIGINT, SIGTERM, SIGHUP})
-    sigaction(signal, &action, nullptr);
+  {
+    // A signal ignored on entry stays ignored (nohup; a background job of a shell without job
+    // control ignores SIGINT), as the shell conventions want.
+    struct sigaction previous = {};
+    if (sigaction(signal, nullptr, &previous) == 0 && previous.sa_handler != SIG_IGN)
+      sigaction(signal, &action, nullptr);
+  }
 }
 
 /// Appended to a failure of the results: what became of the folder.

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # scanhead_run's results and plots: --plots none|summary|all (which PNG plots, whether python starts
-# at all), the phase breakdown on the run line (also with --quiet), a failing plot script (a warning,
-# the results kept), and plot_results.py run by hand on a folder.
+# at all), the phase breakdown on the run line (also with --quiet), a failing plot script (an error:
+# non-zero exit, no folder published, the message names --plots none), and plot_results.py run by
+# hand on a folder.
 set -uo pipefail
 run=${1:-scanhead_run}
 script=${2:-$(cd "$(dirname "$0")/../.." && pwd)/scripts/plot_results.py}
@@ -47,13 +48,15 @@ check_run all all "$plots" "" yes
 check_run summary summary "energy_map_plot.png quality.png" "speed.png contour_error.png corner_zoom.png" yes
 check_run none none "" "$plots" no
 
-# A failing plot script: a warning naming the plots, the results folder complete, exit code 0.
+# A failing plot script: plots asked for and not made are an error; nothing is published, and the
+# message says how to run without python.
 rm -f "$tmp/python_started"
 out=$(SCANHEAD_TEST_PLOT_FAIL=1 "$run" --job corner --out "$tmp/failing" --quiet 2>&1); code=$?
-if [ $code -ne 0 ] || ! grep -q "plots skipped" <<<"$out" || [ ! -s "$tmp/failing/metrics.yaml" ]; then
+if [ $code -eq 0 ] || ! grep -q "error: plots failed: .*plot_results.py exited with status 1" <<<"$out" ||
+  ! grep -q -- "--plots none" <<<"$out" || [ -e "$tmp/failing" ] || ls -A "$tmp" | grep -q '^\.failing\.'; then
   fail "failing plots: exit $code: $out"
 else
-  ok "failing plots: $(grep "plots skipped" <<<"$out")"
+  ok "failing plots: exit $code, $(grep "scanhead_run: error:" <<<"$out")"
 fi
 
 # A bad --plots value names the option and the words.

@@ -194,6 +194,8 @@ bool PlotProcess::judge(int status)
     how = "could not be waited for";
   else if (WIFSIGNALED(status))
     how = "was killed by " + signalName(WTERMSIG(status));
+  else if (WIFEXITED(status) && WEXITSTATUS(status) == ENOSPC)  // plot_results.py's "disk full"
+    how = std::string("found the disk full (") + std::strerror(ENOSPC) + ")";
   else if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
     how = std::string("could not be started (") + kPython + " missing?)";
   else if (WIFEXITED(status) && WEXITSTATUS(status) != 0)
