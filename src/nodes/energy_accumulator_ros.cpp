@@ -58,8 +58,9 @@ EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandl
   // Every chunk is acknowledged, even one the stage threw on: the NC's flow window never waits for it.
   binding.consumed = [this](const ChunkInfo& chunk) { acknowledge(chunk.total_samples); };
   binding.finished = [this](std::uint32_t job_id, bool ok) { finishJob(job_id, ok); };
+  binding.stalled = [this](const StreamStall& stall) { finishStalledJob(stall); };
   adapter_ = std::make_unique<StageNodeAdapter<EnergySinkStage, SpotStream>>(
-      nh, stage_, std::array<std::string, 1>{"optics/spot"}, std::move(binding), "energy");
+      nh, private_nh, stage_, std::array<std::string, 1>{"optics/spot"}, std::move(binding), "energy");
 }
 
 void EnergyAccumulatorNode::onJob(const ScanJob& msg)
@@ -123,6 +124,28 @@ void EnergyAccumulatorNode::acknowledge(std::uint64_t total_samples)
                       static_cast<unsigned long long>(next_index), static_cast<unsigned long long>(total_samples));
 }
 
+void EnergyAccumulatorNode::finishStalledJob(const StreamStall& stall)
+{
+  if (adapter_->driver().failed())
+  {
+    finishJob(stall.job_id, false);
+    return;
+  }
+  // What arrived is accumulated: the results are written as they are, marked incomplete, with the
+  // samples that never came counted as dropped and where the stream stopped.
+  RunMetrics metrics = stage_.finish();
+  metrics.dropped_samples += stall.total_samples - std::min(stall.total_samples, stall.next_sample);
+  metrics.complete = false;
+  metrics.stream_gap = StreamGap{stall.streams, stall.next_sample, stall.total_samples, stall.waited_s};
+  ROS_ERROR(
+      "energy: job %u is INCOMPLETE: its stream stopped at sample %llu of %llu (%s); writing what arrived, "
+      "marked complete: false",
+      stall.job_id, static_cast<unsigned long long>(stall.next_sample),
+      static_cast<unsigned long long>(stall.total_samples), stall.streams.c_str());
+  failed_ = true;
+  finishResults(stall.job_id, metrics);
+}
+
 void EnergyAccumulatorNode::finishJob(std::uint32_t job_id, bool ok)
 {
   if (adapter_->driver().failed())
@@ -137,7 +160,11 @@ void EnergyAccumulatorNode::finishJob(std::uint32_t job_id, bool ok)
     ROS_ERROR("energy: job %u: a chunk failed (see above): its results are incomplete", job_id);
     failed_ = true;
   }
-  const RunMetrics metrics = stage_.finish();
+  finishResults(job_id, stage_.finish());
+}
+
+void EnergyAccumulatorNode::finishResults(std::uint32_t job_id, const RunMetrics& metrics)
+{
   ROS_INFO_STREAM("energy: job " << job_id << " done\n" << metricsTable(metrics));
   publishResults(job_id, metrics);
   if (!out_.empty())
@@ -162,6 +189,8 @@ void EnergyAccumulatorNode::finishJob(std::uint32_t job_id, bool ok)
 
 void EnergyAccumulatorNode::shutdownIfDone()
 {
+  if (exit_when_done_ && failed_)
+    ROS_FATAL("energy: the job failed (see above); shutting down with an error (exit code 1)");
   if (exit_when_done_)  // after a delay that lets a recorder write the last chunks
     shutdown_timer_ = nh_.createWallTimer(
         ros::WallDuration(std::max(shutdown_delay_s_, 1e-3)), [](const ros::WallTimerEvent&) { ros::shutdown(); },

@@ -25,7 +25,8 @@ class EnergyAccumulatorNode
 {
 public:
   /// Parameters: ~out (results folder, default none), ~base_dir (resolves a relative ~out),
-  /// ~exit_when_done (default false: shut down after the first job, for batch-like launches).
+  /// ~exit_when_done (default false: shut down after the first job, for batch-like launches; with
+  /// exit code 1 if it failed or stalled), ~stall_timeout_s (ros_stage_node.hpp).
   EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   bool failed() const { return failed_; }
 
@@ -36,6 +37,10 @@ private:
   void acknowledge(std::uint64_t total_samples);
   /// \brief The job's last sample is in: metrics, results folder, views (\p ok: no chunk failed).
   void finishJob(std::uint32_t job_id, bool ok);
+  /// \brief The stream stopped mid-job: what arrived is written as an incomplete result.
+  void finishStalledJob(const StreamStall& stall);
+  /// \brief Publishes and writes \p metrics and the stage's map, renders the views, ends if asked.
+  void finishResults(std::uint32_t job_id, const RunMetrics& metrics);
   /// \brief With ~exit_when_done, shuts the node down after a delay that lets a recorder finish.
   void shutdownIfDone();
   void publishResults(std::uint32_t job_id, const RunMetrics& metrics);

@@ -1,56 +1,110 @@
 #include "ros_chunk_outlet.hpp"
 
+#include <ros/names.h>
+#include <ros/publication.h>
+#include <ros/this_node.h>
+#include <ros/topic_manager.h>
+
 #include <algorithm>
-#include <map>
-#include <mutex>
+#include <sstream>
 
 namespace scanhead
 {
-namespace
-{
-std::mutex registry_mutex;
-std::map<std::string, std::uint32_t>& registry()
-{
-  static std::map<std::string, std::uint32_t> consumers;  // by resolved topic
-  return consumers;
-}
-}  // namespace
-
-InProcessConsumer::InProcessConsumer(std::string topic)
+ConsumerGate::ConsumerGate(ros::NodeHandle& nh, std::string topic, const std::vector<std::string>& consumers)
   : topic_(std::move(topic))
 {
-  std::lock_guard<std::mutex> lock(registry_mutex);
-  ++registry()[topic_];
+  for (const std::string& name : consumers)
+    if (!name.empty())
+      consumers_.push_back(ros::names::resolve(nh.getNamespace(), name, false));
+  // Every announcement (latched: also those made before this producer started), 100 deep: a
+  // whole graph's consumers at once.
+  ready_sub_ = nh.subscribe("stream/ready", 100, &ConsumerGate::onReady, this);
 }
 
-InProcessConsumer::~InProcessConsumer()
+void ConsumerGate::onReady(const StageReady& msg)
 {
-  std::lock_guard<std::mutex> lock(registry_mutex);
-  if (--registry()[topic_] == 0)
-    registry().erase(topic_);
+  announced_[msg.node] = Announcement{msg.process, msg.topics};
+  checked_ = false;
 }
 
-std::uint32_t InProcessConsumer::count(const std::string& topic)
+std::multiset<std::string> ConsumerGate::links() const
 {
-  std::lock_guard<std::mutex> lock(registry_mutex);
-  const auto it = registry().find(topic);
-  return it == registry().end() ? 0 : it->second;
+  std::multiset<std::string> linked;
+  const ros::PublicationPtr publication = ros::TopicManager::instance()->lookupPublication(topic_);
+  if (!publication)
+    return linked;
+  // roscpp's own connection table: [id, subscriber's caller id, direction, transport, topic, ...]
+  XmlRpc::XmlRpcValue info;
+  info.setSize(0);
+  publication->getInfo(info);
+  for (int i = 0; i < info.size(); ++i)
+    linked.insert(static_cast<std::string>(info[i][1]));
+  return linked;
 }
 
-std::uint32_t subscribers(const ros::Publisher& publisher)
+std::string ConsumerGate::whyMissing(const std::string& consumer, const std::multiset<std::string>& linked) const
 {
-  const std::uint32_t links = publisher.getNumSubscribers();
-  const std::uint32_t here = InProcessConsumer::count(publisher.getTopic());
-  // The registered consumers share one of the links (the in-process one).
-  return links == 0 ? 0 : links + (here > 0 ? here - 1 : 0);
+  if (linked.count(consumer) != 0)
+    return {};  // a standalone node or a recorder, linked under its own name
+  const auto it = announced_.find(consumer);
+  if (it == announced_.end())
+    return "not connected, not announced on stream/ready";
+  const Announcement& a = it->second;
+  if (std::find(a.topics.begin(), a.topics.end(), topic_) == a.topics.end())
+    return a.topics.empty() ? "went away (its stream/ready said so)" : "announced without subscribing to this topic";
+  if (linked.count(a.process) == 0)
+    return "announced, but its process " + a.process + " is not connected yet";
+  return {};
 }
 
-std::uint32_t expectedSubscribers(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh,
-                                  const std::string& param, int consumers)
+bool ConsumerGate::ready(std::uint32_t links_now)
 {
-  int extra = 0;
-  private_nh.param(param, consumers, consumers);
-  nh.param("stream_extra_subscribers", extra, 0);
-  return static_cast<std::uint32_t>(std::max(0, consumers) + std::max(0, extra));
+  if (checked_ && links_now == checked_links_)
+    return ready_;
+  const std::multiset<std::string> linked = links();
+  ready_ = std::all_of(consumers_.begin(), consumers_.end(),
+                       [&](const std::string& c) { return whyMissing(c, linked).empty(); });
+  checked_ = true;
+  checked_links_ = links_now;
+  return ready_;
+}
+
+std::vector<std::string> ConsumerGate::missing() const
+{
+  const std::multiset<std::string> linked = links();
+  std::vector<std::string> out;
+  for (const std::string& c : consumers_)
+  {
+    const std::string why = whyMissing(c, linked);
+    if (!why.empty())
+      out.push_back(c + " (" + why + ")");
+  }
+  return out;
+}
+
+std::vector<std::string> nameListParam(const ros::NodeHandle& nh, const std::string& param,
+                                       const std::vector<std::string>& fallback)
+{
+  XmlRpc::XmlRpcValue value;
+  if (!nh.getParam(param, value))
+    return fallback;
+  std::vector<std::string> names;
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeArray)
+  {
+    for (int i = 0; i < value.size(); ++i)
+      if (value[i].getType() == XmlRpc::XmlRpcValue::TypeString)
+        names.push_back(static_cast<std::string>(value[i]));
+  }
+  else if (value.getType() == XmlRpc::XmlRpcValue::TypeString)
+  {
+    std::string text = static_cast<std::string>(value);
+    std::replace(text.begin(), text.end(), ',', ' ');
+    std::istringstream words(text);
+    for (std::string word; words >> word;)
+      names.push_back(word);
+  }
+  else
+    ROS_WARN("%s: expected a list of node names; using the default", nh.resolveName(param).c_str());
+  return names;
 }
 }  // namespace scanhead
