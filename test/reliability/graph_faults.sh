@@ -11,14 +11,14 @@
 #  4. a stage killed between jobs and respawned (respawn:=true) rejoins: the next job completes,
 #     identical to the batch run.
 # Registered with CTest (see CMakeLists.txt); needs the built package on the environment.
-# Usage: graph_faults.sh [scanhead_run] ; SCANHEAD_FAULT_RUNS=N, SCANHEAD_FAULT_PORT=P (11700-11799).
+# Usage: graph_faults.sh [scanhead_run] ; SCANHEAD_FAULT_RUNS=N, SCANHEAD_ROS_PORT=P (11700-11799).
 set -euo pipefail
 run=${1:-scanhead_run}
 runs=${SCANHEAD_FAULT_RUNS:-20}
 launch_dir="$(cd "$(dirname "$0")/../../launch" && pwd)"  # full paths: the package may be found twice
 tmp=$(mktemp -d /tmp/scanhead_graph_faults.XXXXXX)
 export ROS_IP=127.0.0.1
-export ROS_MASTER_URI="http://127.0.0.1:${SCANHEAD_FAULT_PORT:-$((11700 + $$ % 100))}"
+export ROS_MASTER_URI="http://127.0.0.1:${SCANHEAD_ROS_PORT:-$((11700 + $$ % 100))}"
 export ROS_LOG_DIR="$tmp/ros_log"
 background=()  # PIDs of what this script started and still runs
 cleanup() {
@@ -66,14 +66,19 @@ now() { date +%s.%N; }
 elapsed() { awk -v a="$(now)" -v b="$1" 'BEGIN { printf "%.1f", a - b }'; }
 
 # ---- 1. kill -9 of a stage mid-job -------------------------------------------------------------
-job_long="hatch:size=0.03"
+job_long="corner:speed=0.0002,angle=90"  # 4 M samples: ~10 s in the graph, ~4 s in batch
+acked() {  # the energy node acknowledged samples of a job
+  local n
+  n=$(timeout 5 rostopic echo -n 1 /energy/ack/next_index 2> /dev/null | head -1)
+  [ -n "$n" ] && [ "$n" -gt 0 ]
+}
 kill_mid_job() {  # nodelets
   local mode=$1 dir="$tmp/kill-$1" log="$tmp/kill-$1.log"
   roslaunch "$launch_dir/virtual_machine.launch" job:="$job_long" out:="$dir" nodelets:="$mode" > "$log" 2>&1 &
   local launch_pid=$!
   started $launch_pid
-  # Mid-job: the energy node reports progress from its first chunks on.
-  wait_for 90 grep -q "energy: job 1 at" "$log" || { cat "$log"; fail "kill ($mode): the job never started"; }
+  # Mid-job: the energy node has acknowledged samples (energy/ack, latched).
+  wait_for 90 acked || { cat "$log"; fail "kill ($mode): the job never started"; }
   local victim
   victim=$(node_pid /galvo_servo)
   [ -n "$victim" ] || fail "kill ($mode): no pid for /galvo_servo"

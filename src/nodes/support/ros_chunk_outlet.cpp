@@ -6,6 +6,7 @@
 #include <ros/topic_manager.h>
 
 #include <algorithm>
+#include <mutex>
 #include <sstream>
 
 namespace scanhead
@@ -23,8 +24,61 @@ ConsumerGate::ConsumerGate(ros::NodeHandle& nh, std::string topic, const std::ve
 
 void ConsumerGate::onReady(const StageReady& msg)
 {
-  announced_[msg.node] = Announcement{msg.process, msg.topics};
+  // The process's whole list: a consumer of that process missing from it went away.
+  for (auto& [node, a] : announced_)
+    if (a.process == msg.process)
+      a.topics.clear();
+  for (std::size_t i = 0; i < msg.nodes.size(); ++i)
+  {
+    Announcement& a = announced_[msg.nodes[i]];
+    a.process = msg.process;
+    a.topics.clear();
+    std::istringstream words(i < msg.topics.size() ? msg.topics[i] : std::string());
+    for (std::string topic; words >> topic;)
+      a.topics.push_back(topic);
+  }
   checked_ = false;
+}
+
+namespace
+{
+std::mutex announce_mutex;
+std::map<std::string, std::string>& announced()  // this process's consumers: node -> topics
+{
+  static std::map<std::string, std::string> consumers;
+  return consumers;
+}
+}  // namespace
+
+ReadyAnnouncer::ReadyAnnouncer(ros::NodeHandle& nh, const std::string& node, const std::vector<std::string>& topics)
+  : node_(node)
+  , publisher_(nh.advertise<StageReady>("stream/ready", 1, true))
+{
+  std::string text;
+  for (const std::string& t : topics)
+    text += (text.empty() ? "" : " ") + t;
+  std::lock_guard<std::mutex> lock(announce_mutex);
+  announced()[node_] = text;
+  publish();
+}
+
+ReadyAnnouncer::~ReadyAnnouncer()
+{
+  std::lock_guard<std::mutex> lock(announce_mutex);
+  announced().erase(node_);
+  publish();  // a nodelet unloaded from a manager that stays up: its producers stop waiting for it
+}
+
+void ReadyAnnouncer::publish()
+{
+  StageReady msg;
+  msg.process = ros::this_node::getName();
+  for (const auto& [node, topics] : announced())
+  {
+    msg.nodes.push_back(node);
+    msg.topics.push_back(topics);
+  }
+  publisher_.publish(msg);
 }
 
 std::multiset<std::string> ConsumerGate::links() const
@@ -51,7 +105,7 @@ std::string ConsumerGate::whyMissing(const std::string& consumer, const std::mul
     return "not connected, not announced on stream/ready";
   const Announcement& a = it->second;
   if (std::find(a.topics.begin(), a.topics.end(), topic_) == a.topics.end())
-    return a.topics.empty() ? "went away (its stream/ready said so)" : "announced without subscribing to this topic";
+    return a.topics.empty() ? "went away (stream/ready)" : "announced without subscribing to this topic";
   if (linked.count(a.process) == 0)
     return "announced, but its process " + a.process + " is not connected yet";
   return {};

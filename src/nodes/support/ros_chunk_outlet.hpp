@@ -5,7 +5,8 @@
 ///
 /// The handshake: every stream consumer (StageNodeAdapter) announces, once it has subscribed, its
 /// node name, the process it runs in and its input topics on the latched topic stream/ready
-/// (scanhead/StageReady). A producer is configured with the consumers it expects per topic
+/// (scanhead/StageReady, one message listing all the consumers of a process: ReadyAnnouncer). A producer is configured
+/// with the consumers it expects per topic
 /// (`~<topic>_consumers`, plus `stream_recorders` for every topic) and publishes once each of them
 /// is linked to it: a link whose subscriber is that node (a standalone node, rosbag record), or an
 /// announcement of that node for the topic and a link to the process it named (a nodelet: the
@@ -151,6 +152,26 @@ private:
   ConsumerGate gate_;
   std::deque<boost::shared_ptr<const Message>> pending_;
   ros::WallTime waiting_since_;  ///< zero while nothing waits
+};
+
+/// \brief A consumer's entry in its process's announcement on stream/ready, for as long as it lives.
+/// Construct it after subscribing, destroy it before unsubscribing.
+class ReadyAnnouncer
+{
+public:
+  /// \param[in] node   the consumer's node name (resolved)
+  /// \param[in] topics its resolved input topics
+  ReadyAnnouncer(ros::NodeHandle& nh, const std::string& node, const std::vector<std::string>& topics);
+  ~ReadyAnnouncer();
+  ReadyAnnouncer(const ReadyAnnouncer&) = delete;
+  ReadyAnnouncer& operator=(const ReadyAnnouncer&) = delete;
+
+private:
+  /// \brief Publishes the process's whole list (the latched message is the last one published).
+  void publish();
+
+  std::string node_;
+  ros::Publisher publisher_;
 };
 
 /// \brief A node-name list parameter: an XML-RPC list of strings or one space/comma-separated

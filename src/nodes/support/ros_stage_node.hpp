@@ -21,7 +21,6 @@
 
 #include <ros/ros.h>
 #include <scanhead/ChunkHeader.h>
-#include <scanhead/StageReady.h>
 
 #include <array>
 #include <cstdint>
@@ -92,23 +91,15 @@ public:
     private_nh.param("stall_timeout_s", stall_timeout_s_, fallback);
     subscribeAll(nh, topics, std::index_sequence_for<InMsgs...>());
     // After subscribing: from now on this node gets every chunk published on its topics.
-    announcement_.node = private_nh.getNamespace();
-    announcement_.process = ros::this_node::getName();
+    std::vector<std::string> resolved;
     for (const ros::Subscriber& s : subscribers_)
-      announcement_.topics.push_back(s.getTopic());
-    ready_pub_ = nh.advertise<StageReady>("stream/ready", 1, true);
-    ready_pub_.publish(announcement_);
+      resolved.push_back(s.getTopic());
+    announcer_ = std::make_unique<ReadyAnnouncer>(nh, private_nh.getNamespace(), resolved);
     if (stall_timeout_s_ > 0.0)
       stall_timer_ = nh.createWallTimer(ros::WallDuration(std::min(0.25, stall_timeout_s_ / 4.0)),
                                         [this](const ros::WallTimerEvent&) { checkStall(); });
   }
 
-  ~StageNodeAdapter()
-  {
-    // A nodelet unloaded from a manager that stays up: its producers stop waiting for it.
-    announcement_.topics.clear();
-    ready_pub_.publish(announcement_);
-  }
   StageNodeAdapter(const StageNodeAdapter&) = delete;
   StageNodeAdapter& operator=(const StageNodeAdapter&) = delete;
 
@@ -290,8 +281,7 @@ private:
   std::array<ros::Subscriber, kInputs> subscribers_;
   std::map<Key, Messages> pending_;
   std::map<std::uint32_t, ros::WallTime> waiting_since_;  ///< jobs whose chunks wait for their job to start
-  StageReady announcement_;
-  ros::Publisher ready_pub_;  ///< stream/ready, latched
+  std::unique_ptr<ReadyAnnouncer> announcer_;             ///< after subscribers_: withdrawn before they go
   double stall_timeout_s_ = 3.0;
   ros::WallTimer stall_timer_;
   ros::WallTime last_progress_;                    ///< when the running job last ran a chunk
