@@ -25,6 +25,7 @@ EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandl
   private_nh.param("base_dir", base_dir, std::string());
   private_nh.param("exit_when_done", exit_when_done_, false);
   private_nh.param("shutdown_delay_s", shutdown_delay_s_, 0.0);
+  private_nh.param("start_timeout_s", start_timeout_s_, start_timeout_s_);
   if (!out_.empty() && out_.front() != '/' && !base_dir.empty())
     out_ = base_dir + "/" + out_;
   // Latched: an NC that connects late still learns how far the stream got (no deadlock).
@@ -59,6 +60,12 @@ EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandl
   binding.consumed = [this](const ChunkInfo& chunk) { acknowledge(chunk.total_samples); };
   binding.finished = [this](std::uint32_t job_id, bool ok) { finishJob(job_id, ok); };
   binding.stalled = [this](const StreamStall& stall) { finishStalledJob(stall); };
+  binding.unstartable = [this](std::uint32_t job_id) {
+    ROS_ERROR("energy: job %u: no results (its cam/job or nc/plan never came)", job_id);
+    failed_ = true;
+    shutdownIfDone();
+  };
+  start_timer_ = nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { checkStarts(); });
   adapter_ = std::make_unique<StageNodeAdapter<EnergySinkStage, SpotStream>>(
       nh, private_nh, stage_, std::array<std::string, 1>{"optics/spot"}, std::move(binding), "energy");
 }
@@ -77,6 +84,8 @@ void EnergyAccumulatorNode::onPlan(const NcJobPlan& msg)
   {
     plans_[msg.job_id] = fromMsg(msg);
     rejected_plans_.erase(msg.job_id);
+    if (start_timeout_s_ > 0.0 && adapter_->driver().jobId() != msg.job_id)
+      planned_at_[msg.job_id] = ros::WallTime::now();
     while (plans_.size() > 8)
       plans_.erase(plans_.begin());
   }
@@ -108,6 +117,31 @@ void EnergyAccumulatorNode::onPlan(const NcJobPlan& msg)
     ROS_WARN("energy: cannot compare the NC node's settings with this node's: %s", e.what());
   }
   adapter_->retry();
+}
+
+void EnergyAccumulatorNode::checkStarts()
+{
+  for (auto it = planned_at_.begin(); it != planned_at_.end();)
+  {
+    const std::uint32_t job_id = it->first;
+    const double waited = (ros::WallTime::now() - it->second).toSec();
+    if (adapter_->driver().jobId() == job_id)
+      it = planned_at_.erase(it);  // its first chunk came
+    else if (waited > start_timeout_s_)
+    {
+      // The NC planned the job but no chunk of it ever came here: the NC gave it up (a consumer
+      // missing, see its log) or a stage before this one is not there.
+      ROS_ERROR(
+          "energy: job %u: no results: its nc/plan came %.1f s ago (~start_timeout_s) but none of its "
+          "optics/spot chunks (is every stage running? see the NC's log)",
+          job_id, waited);
+      it = planned_at_.erase(it);
+      failed_ = true;
+      shutdownIfDone();
+    }
+    else
+      ++it;
+  }
 }
 
 void EnergyAccumulatorNode::acknowledge(std::uint64_t total_samples)

@@ -10,6 +10,8 @@
 #  3. rostopic echo works on every published topic of a running graph (python message packages).
 #  4. a stage killed between jobs and respawned (respawn:=true) rejoins: the next job completes,
 #     identical to the batch run.
+#  5. a consumer the NC expects never comes: the NC gives the job up naming it (~ready_timeout_s),
+#     the energy node fails the planned job (~start_timeout_s) and the launch ends, no results folder.
 # Registered with CTest (see CMakeLists.txt); needs the built package on the environment.
 # Usage: graph_faults.sh [scanhead_run] ; SCANHEAD_FAULT_RUNS=N (case 2), SCANHEAD_FAULT_CASES="1 3"
 # (a subset), SCANHEAD_ROS_PORT=P (the master's port).
@@ -64,7 +66,7 @@ node_pid() {  # node name: its process id, as the node tells the master
   rosnode info "$1" 2> /dev/null | sed -n 's/^Pid: //p'
 }
 now() { date +%s.%N; }
-want() { [[ " ${SCANHEAD_FAULT_CASES:-1 2 3 4} " == *" $1 "* ]]; }
+want() { [[ " ${SCANHEAD_FAULT_CASES:-1 2 3 4 5} " == *" $1 "* ]]; }
 job="corner:speed=2,angle=90"
 "$run" --job "$job" --out "$tmp/batch" --quiet
 elapsed() { awk -v a="$(now)" -v b="$1" 'BEGIN { printf "%.1f", a - b }'; }
@@ -214,5 +216,28 @@ echo "respawn: galvo_servo killed between jobs and respawned; job 2 complete and
   "($(elapsed "$t0") s from load to metrics)"
 kill -INT $graph_pid
 wait_exit 30 $graph_pid || fail "the graph did not stop on SIGINT"
+fi
+# ---- 5. an expected consumer that never comes --------------------------------------------------
+if want 5; then
+  if ! rostopic list > /dev/null 2>&1; then
+    roscore -p "${ROS_MASTER_URI##*:}" > "$tmp/roscore5.log" 2>&1 &
+    started $!
+    wait_for 30 rostopic list || fail "no ROS master"
+  fi
+  rosparam set /nc_interpolator/setpoint_consumers "galvo_servo optical_chain ghost_stage"
+  rosparam set /nc_interpolator/ready_timeout_s 2.0
+  rosparam set /energy_accumulator/start_timeout_s 5.0
+  t0=$(now)
+  timeout 60 roslaunch "$launch_dir/virtual_machine.launch" job:="$job" out:="$tmp/ghost" > "$tmp/ghost.log" 2>&1 ||
+    { cat "$tmp/ghost.log"; fail "missing consumer: the launch did not end within 60 s"; }
+  took=$(elapsed "$t0")
+  rosparam delete /nc_interpolator
+  rosparam delete /energy_accumulator/start_timeout_s
+  grep -q "nc: job 1 abandoned: .*/ghost_stage (not connected" "$tmp/ghost.log" ||
+    { cat "$tmp/ghost.log"; fail "missing consumer: the NC did not name it"; }
+  grep -q "energy: job 1: no results" "$tmp/ghost.log" || { cat "$tmp/ghost.log"; fail "missing consumer: the energy node did not fail the job"; }
+  [ ! -e "$tmp/ghost" ] || fail "missing consumer: a results folder was written"
+  echo "missing consumer: the NC named it after 2 s, the launch ended after $took s with no results folder:" \
+    "$(grep -o "nc: job 1 abandoned: .*" "$tmp/ghost.log" | sed 's/\x1b\[0m//')"
 fi
 echo "graph faults: all cases passed"

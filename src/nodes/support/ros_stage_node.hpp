@@ -74,6 +74,8 @@ public:
     std::function<void(std::uint32_t job_id, bool ok)> finished;
     /// The job stalled (optional): called before the job is abandoned (the stage still holds it).
     std::function<void(const StreamStall& stall)> stalled;
+    /// A job's chunks were dropped after waiting too long for what the job needs (optional).
+    std::function<void(std::uint32_t job_id)> unstartable;
   };
 
   /// \param[in] private_nh the node's private handle: its name (what producers expect) and parameters
@@ -204,6 +206,8 @@ private:
             "nc/plan), which never came: dropped",
             name_.c_str(), job_id, waited);
         dropJob(job_id);
+        if (binding_.unstartable)
+          binding_.unstartable(job_id);
       }
     }
   }
