@@ -27,7 +27,7 @@ background=()  # PIDs of what this script started and still runs
 cleanup() {
   for pid in "${background[@]}"; do kill -INT "$pid" 2> /dev/null || true; done
   for pid in "${background[@]}"; do
-    for _ in $(seq 50); do kill -0 "$pid" 2> /dev/null || break; sleep 0.2; done
+    for _ in $(seq 150); do kill -0 "$pid" 2> /dev/null || break; sleep 0.2; done  # roslaunch stops its nodes (and master) in < 30 s
     kill -KILL "$pid" 2> /dev/null || true
   done
   rm -rf "$tmp"
