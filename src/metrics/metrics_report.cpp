@@ -163,6 +163,13 @@ std::string metricsToYaml(const RunMetrics& m)
   out << "job: \"" << m.job_name << "\"\n";
   out << "samples: " << m.samples << "\n";
   out << "dropped_samples: " << m.dropped_samples << "\n";
+  if (!m.complete)  // only an incomplete run has these lines: a complete one reads as before
+  {
+    out << "complete: false\n";
+    out << "stream_gap: {streams: \"" << m.stream_gap.streams << "\", next_sample: " << m.stream_gap.next_sample
+        << ", total_samples: " << m.stream_gap.total_samples
+        << ", waited_s: " << fullPrecisionText(m.stream_gap.waited_s) << "}\n";
+  }
   out << "duration_s: " << fullPrecisionText(m.duration_s) << "\n";
   out << "laser_on_time_s: " << fullPrecisionText(m.laser_on_time_s) << "\n";
   out << "commanded_energy_j: " << fullPrecisionText(m.commanded_energy_j) << "\n";

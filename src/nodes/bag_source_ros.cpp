@@ -5,9 +5,11 @@
 namespace scanhead
 {
 BagSourceNode::BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
-  : setpoint_out_(nh, "nc/setpoint", expectedSubscribers(nh, private_nh, "setpoint_subscribers", 2))
-  , laser_out_(nh, "nc/laser", expectedSubscribers(nh, private_nh, "laser_subscribers", 1))
+  : setpoint_out_(nh, private_nh, "nc/setpoint", "setpoint_consumers", {"galvo_servo", "optical_chain"})
+  , laser_out_(nh, private_nh, "nc/laser", "laser_consumers", {"optical_chain"})
 {
+  private_nh.param("ready_timeout_s", ready_timeout_s_, ready_timeout_s_);
+  private_nh.param("flow_timeout_s", flow_timeout_s_, flow_timeout_s_);
   std::string path;
   if (!private_nh.getParam("bag", path) || path.empty())
     throw ConfigError("~bag: the bag to replay is not set (bag:=FILE)");
@@ -44,14 +46,35 @@ BagSourceNode::BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
 void BagSourceNode::onAck(const ChunkAck& msg)
 {
   if (window_.onAck(msg))
+  {
+    flow_clock_ = ros::WallTime::now();
     pump();
+  }
 }
 
 void BagSourceNode::onTimer(const ros::TimerEvent&)
 {
-  setpoint_out_.flush();
-  laser_out_.flush();
+  if (failed_)
+    return;
+  setpoint_out_.refresh();
+  laser_out_.refresh();
   pump();
+  // A replay is one run: a consumer that never comes or a stream that stops ends it with an error.
+  std::string error;
+  if (setpoint_out_.waitedS() > ready_timeout_s_)
+    error = setpoint_out_.missingText();
+  else if (laser_out_.waitedS() > ready_timeout_s_)
+    error = laser_out_.missingText();
+  else if (setpoint_out_.pending() + laser_out_.pending() > 0 || next_ == view_->end() || window_.canSend())
+    flow_clock_ = ros::WallTime::now();
+  else if ((ros::WallTime::now() - flow_clock_).toSec() > flow_timeout_s_)
+    error = "no energy/ack for " + std::to_string(flow_timeout_s_) + " s (~flow_timeout_s) at sample " +
+            std::to_string(window_.acked()) + ": is energy_accumulator (or the stage before it) running?";
+  if (error.empty())
+    return;
+  ROS_FATAL("bag_source: replay abandoned: %s", error.c_str());
+  failed_ = true;
+  ros::shutdown();
 }
 
 void BagSourceNode::pump()
@@ -62,6 +85,7 @@ void BagSourceNode::pump()
     if (const auto job = m.instantiate<ScanJob>())
     {
       window_.start(job->job_id, window_samples_);
+      flow_clock_ = ros::WallTime::now();
       job_pub_.publish(job);
     }
     else if (const auto plan = m.instantiate<NcJobPlan>())

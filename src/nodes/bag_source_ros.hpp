@@ -22,10 +22,11 @@ namespace scanhead
 class BagSourceNode
 {
 public:
-  /// Parameters: ~bag (path, required), ~window_chunks (default 16), ~setpoint_subscribers (2),
-  /// ~laser_subscribers (1).
+  /// Parameters: ~bag (path, required), ~window_chunks (default 16), ~setpoint_consumers (node
+  /// names, default galvo_servo optical_chain), ~laser_consumers (optical_chain), ~ready_timeout_s
+  /// (20), ~flow_timeout_s (10): past either the replay ends with an error naming what is missing.
   BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
-  bool failed() const { return false; }
+  bool failed() const { return failed_; }
 
 private:
   void onAck(const ChunkAck& msg);
@@ -43,5 +44,8 @@ private:
   ros::Timer timer_;
   std::uint64_t window_samples_ = 16000;
   FlowWindow window_;
+  double ready_timeout_s_ = 20.0, flow_timeout_s_ = 10.0;
+  ros::WallTime flow_clock_;  ///< since when the window has waited for an acknowledgement
+  bool failed_ = false;
 };
 }  // namespace scanhead

@@ -25,6 +25,7 @@ EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandl
   private_nh.param("base_dir", base_dir, std::string());
   private_nh.param("exit_when_done", exit_when_done_, false);
   private_nh.param("shutdown_delay_s", shutdown_delay_s_, 0.0);
+  private_nh.param("start_timeout_s", start_timeout_s_, start_timeout_s_);
   if (!out_.empty() && out_.front() != '/' && !base_dir.empty())
     out_ = base_dir + "/" + out_;
   // Latched: an NC that connects late still learns how far the stream got (no deadlock).
@@ -58,8 +59,15 @@ EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandl
   // Every chunk is acknowledged, even one the stage threw on: the NC's flow window never waits for it.
   binding.consumed = [this](const ChunkInfo& chunk) { acknowledge(chunk.total_samples); };
   binding.finished = [this](std::uint32_t job_id, bool ok) { finishJob(job_id, ok); };
+  binding.stalled = [this](const StreamStall& stall) { finishStalledJob(stall); };
+  binding.unstartable = [this](std::uint32_t job_id) {
+    ROS_ERROR("energy: job %u: no results (its cam/job or nc/plan never came)", job_id);
+    failed_ = true;
+    shutdownIfDone();
+  };
+  start_timer_ = nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { checkStarts(); });
   adapter_ = std::make_unique<StageNodeAdapter<EnergySinkStage, SpotStream>>(
-      nh, stage_, std::array<std::string, 1>{"optics/spot"}, std::move(binding), "energy");
+      nh, private_nh, stage_, std::array<std::string, 1>{"optics/spot"}, std::move(binding), "energy");
 }
 
 void EnergyAccumulatorNode::onJob(const ScanJob& msg)
@@ -76,6 +84,8 @@ void EnergyAccumulatorNode::onPlan(const NcJobPlan& msg)
   {
     plans_[msg.job_id] = fromMsg(msg);
     rejected_plans_.erase(msg.job_id);
+    if (start_timeout_s_ > 0.0 && adapter_->driver().jobId() != msg.job_id)
+      planned_at_[msg.job_id] = ros::WallTime::now();
     while (plans_.size() > 8)
       plans_.erase(plans_.begin());
   }
@@ -109,6 +119,31 @@ void EnergyAccumulatorNode::onPlan(const NcJobPlan& msg)
   adapter_->retry();
 }
 
+void EnergyAccumulatorNode::checkStarts()
+{
+  for (auto it = planned_at_.begin(); it != planned_at_.end();)
+  {
+    const std::uint32_t job_id = it->first;
+    const double waited = (ros::WallTime::now() - it->second).toSec();
+    if (adapter_->driver().jobId() == job_id)
+      it = planned_at_.erase(it);  // its first chunk came
+    else if (waited > start_timeout_s_)
+    {
+      // The NC planned the job but no chunk of it ever came here: the NC gave it up (a consumer
+      // missing, see its log) or a stage before this one is not there.
+      ROS_ERROR(
+          "energy: job %u: no results: its nc/plan came %.1f s ago (~start_timeout_s) but none of its "
+          "optics/spot chunks (is every stage running? see the NC's log)",
+          job_id, waited);
+      it = planned_at_.erase(it);
+      failed_ = true;
+      shutdownIfDone();
+    }
+    else
+      ++it;
+  }
+}
+
 void EnergyAccumulatorNode::acknowledge(std::uint64_t total_samples)
 {
   const std::uint32_t job_id = adapter_->driver().jobId();
@@ -121,6 +156,28 @@ void EnergyAccumulatorNode::acknowledge(std::uint64_t total_samples)
     ROS_INFO_THROTTLE(2.0, "energy: job %u at %.0f %% (%llu of %llu samples)", job_id,
                       100.0 * static_cast<double>(next_index) / static_cast<double>(total_samples),
                       static_cast<unsigned long long>(next_index), static_cast<unsigned long long>(total_samples));
+}
+
+void EnergyAccumulatorNode::finishStalledJob(const StreamStall& stall)
+{
+  if (adapter_->driver().failed())
+  {
+    finishJob(stall.job_id, false);
+    return;
+  }
+  // What arrived is accumulated: the results are written as they are, marked incomplete, with the
+  // samples that never came counted as dropped and where the stream stopped.
+  RunMetrics metrics = stage_.finish();
+  metrics.dropped_samples += stall.total_samples - std::min(stall.total_samples, stall.next_sample);
+  metrics.complete = false;
+  metrics.stream_gap = StreamGap{stall.streams, stall.next_sample, stall.total_samples, stall.waited_s};
+  ROS_ERROR(
+      "energy: job %u is INCOMPLETE: its stream stopped at sample %llu of %llu (%s); writing what arrived, "
+      "marked complete: false",
+      stall.job_id, static_cast<unsigned long long>(stall.next_sample),
+      static_cast<unsigned long long>(stall.total_samples), stall.streams.c_str());
+  failed_ = true;
+  finishResults(stall.job_id, metrics);
 }
 
 void EnergyAccumulatorNode::finishJob(std::uint32_t job_id, bool ok)
@@ -137,7 +194,11 @@ void EnergyAccumulatorNode::finishJob(std::uint32_t job_id, bool ok)
     ROS_ERROR("energy: job %u: a chunk failed (see above): its results are incomplete", job_id);
     failed_ = true;
   }
-  const RunMetrics metrics = stage_.finish();
+  finishResults(job_id, stage_.finish());
+}
+
+void EnergyAccumulatorNode::finishResults(std::uint32_t job_id, const RunMetrics& metrics)
+{
   ROS_INFO_STREAM("energy: job " << job_id << " done\n" << metricsTable(metrics));
   publishResults(job_id, metrics);
   if (!out_.empty())
@@ -162,6 +223,8 @@ void EnergyAccumulatorNode::finishJob(std::uint32_t job_id, bool ok)
 
 void EnergyAccumulatorNode::shutdownIfDone()
 {
+  if (exit_when_done_ && failed_)
+    ROS_FATAL("energy: the job failed (see above); shutting down with an error (exit code 1)");
   if (exit_when_done_)  // after a delay that lets a recorder write the last chunks
     shutdown_timer_ = nh_.createWallTimer(
         ros::WallDuration(std::max(shutdown_delay_s_, 1e-3)), [](const ros::WallTimerEvent&) { ros::shutdown(); },

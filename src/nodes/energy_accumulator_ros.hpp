@@ -25,17 +25,25 @@ class EnergyAccumulatorNode
 {
 public:
   /// Parameters: ~out (results folder, default none), ~base_dir (resolves a relative ~out),
-  /// ~exit_when_done (default false: shut down after the first job, for batch-like launches).
+  /// ~exit_when_done (default false: shut down after the first job, for batch-like launches; with
+  /// exit code 1 if it failed or stalled), ~stall_timeout_s (ros_stage_node.hpp), ~start_timeout_s
+  /// (default 30: a job planned by the NC none of whose chunks came by then fails).
   EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   bool failed() const { return failed_; }
 
 private:
   void onJob(const ScanJob& msg);
   void onPlan(const NcJobPlan& msg);
+  /// \brief A planned job none of whose chunks came within ~start_timeout_s fails (no results).
+  void checkStarts();
   /// \brief Acknowledges the spot stream up to where it got, with progress on long jobs.
   void acknowledge(std::uint64_t total_samples);
   /// \brief The job's last sample is in: metrics, results folder, views (\p ok: no chunk failed).
   void finishJob(std::uint32_t job_id, bool ok);
+  /// \brief The stream stopped mid-job: what arrived is written as an incomplete result.
+  void finishStalledJob(const StreamStall& stall);
+  /// \brief Publishes and writes \p metrics and the stage's map, renders the views, ends if asked.
+  void finishResults(std::uint32_t job_id, const RunMetrics& metrics);
   /// \brief With ~exit_when_done, shuts the node down after a delay that lets a recorder finish.
   void shutdownIfDone();
   void publishResults(std::uint32_t job_id, const RunMetrics& metrics);
@@ -56,6 +64,9 @@ private:
   std::string out_;
   bool exit_when_done_ = false;
   double shutdown_delay_s_ = 0.0;
+  double start_timeout_s_ = 30.0;                      ///< > the NC's ready_timeout_s (20 s)
+  std::map<std::uint32_t, ros::WallTime> planned_at_;  ///< planned jobs whose first chunk has not come
+  ros::WallTimer start_timer_;
   ros::NodeHandle nh_;
   ros::WallTimer shutdown_timer_;
   bool failed_ = false;

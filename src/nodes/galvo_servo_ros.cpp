@@ -15,7 +15,7 @@ GalvoServoNode::GalvoServoNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
 GalvoServoNode::GalvoServoNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const ChainConfig& config)
   : period_s_(config.nc.period_s)
   , stage_(config.servo)
-  , joints_out_(nh, "galvo/joint_states_chunk", expectedSubscribers(nh, private_nh, "subscribers", 1))
+  , joints_out_(nh, private_nh, "galvo/joint_states_chunk", "consumers", {"optical_chain"})
 {
   double rate_hz = 30.0;
   private_nh.param("display_rate_hz", rate_hz, rate_hz);
@@ -38,7 +38,7 @@ GalvoServoNode::GalvoServoNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
       publishDisplay(joints.samples.back());
   };
   adapter_ = std::make_unique<StageNodeAdapter<ServoStage, NcSetpoint>>(
-      nh, stage_, std::array<std::string, 1>{"nc/setpoint"}, std::move(binding), "galvo");
+      nh, private_nh, stage_, std::array<std::string, 1>{"nc/setpoint"}, std::move(binding), "galvo");
   timer_ = nh.createTimer(ros::Duration(0.01), &GalvoServoNode::onTimer, this);
 }
 
@@ -57,7 +57,7 @@ void GalvoServoNode::publishDisplay(const JointSample& sample)
 
 void GalvoServoNode::onTimer(const ros::TimerEvent&)
 {
-  joints_out_.flush();
+  joints_out_.refresh();
   // Keep the TF of the mirrors fresh between jobs (robot_state_publisher needs joint states).
   if ((ros::WallTime::now() - last_display_).toSec() >= display_period_s_)
     publishDisplay(last_display_sample_);

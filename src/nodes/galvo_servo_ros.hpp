@@ -18,7 +18,8 @@ namespace scanhead
 class GalvoServoNode
 {
 public:
-  /// Parameters: ~subscribers (default 1: optics), ~display_rate_hz (default 30).
+  /// Parameters: ~consumers (node names, default optical_chain), ~display_rate_hz (default 30),
+  /// ~stall_timeout_s (ros_stage_node.hpp).
   GalvoServoNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   bool failed() const { return false; }
 

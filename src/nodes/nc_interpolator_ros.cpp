@@ -1,6 +1,7 @@
 #include "nc_interpolator_ros.hpp"
 
 #include <boost/make_shared.hpp>
+#include <cstdio>
 
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
@@ -11,13 +12,25 @@
 
 namespace scanhead
 {
+namespace
+{
+std::string seconds(double s)
+{
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.1f s", s);
+  return text;
+}
+}  // namespace
+
 NcInterpolatorNode::NcInterpolatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
   : config_(chainConfigFromParams(nh))
   , optics_(opticalModelFromParams(nh, config_.optics))
-  , setpoint_out_(nh, "nc/setpoint", expectedSubscribers(nh, private_nh, "setpoint_subscribers", 2))
-  , laser_out_(nh, "nc/laser", expectedSubscribers(nh, private_nh, "laser_subscribers", 1))
-  , debug_out_(nh, "nc/debug", expectedSubscribers(nh, private_nh, "debug_subscribers", 0))
+  , setpoint_out_(nh, private_nh, "nc/setpoint", "setpoint_consumers", {"galvo_servo", "optical_chain"})
+  , laser_out_(nh, private_nh, "nc/laser", "laser_consumers", {"optical_chain"})
+  , debug_out_(nh, private_nh, "nc/debug", "debug_consumers", {})
 {
+  private_nh.param("ready_timeout_s", ready_timeout_s_, ready_timeout_s_);
+  private_nh.param("flow_timeout_s", flow_timeout_s_, flow_timeout_s_);
   settings_yaml_ = chainConfigToYaml(config_);
   plan_pub_ = nh.advertise<NcJobPlan>("nc/plan", 1, true);
   job_sub_ = nh.subscribe("cam/job", 10, &NcInterpolatorNode::onJob, this);
@@ -37,6 +50,10 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
     // Before any chunk of the job; shared, so a nodelet energy stage gets it without a copy.
     plan_pub_.publish(boost::make_shared<const NcJobPlan>(toMsg(nc_->plan(), msg.job_id, settings_yaml_)));
     window_.start(msg.job_id, config_.stream.window_chunks * config_.stream.chunk_samples);
+    setpoint_out_.clear();  // what an abandoned job left
+    laser_out_.clear();
+    debug_out_.clear();
+    flow_clock_ = ros::WallTime::now();
     ROS_INFO("nc: job %u '%s': %llu samples (%.3f ms)", msg.job_id, job.name.c_str(),
              static_cast<unsigned long long>(nc_->plan().total_samples),
              1e3 * nc_->plan().total_samples * config_.nc.period_s);
@@ -51,14 +68,54 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
 void NcInterpolatorNode::onAck(const ChunkAck& msg)
 {
   if (window_.onAck(msg))
+  {
+    flow_clock_ = ros::WallTime::now();
     pump();
+  }
 }
 
 void NcInterpolatorNode::onTimer(const ros::TimerEvent&)
 {
-  setpoint_out_.flush();
-  laser_out_.flush();
-  debug_out_.flush();
+  setpoint_out_.refresh();
+  laser_out_.refresh();
+  debug_out_.refresh();
+  if (!nc_)
+    return;
+  // Held for a consumer that is not there: the handshake's timeout.
+  std::string missing;
+  const auto check = [&](const auto& outlet) {
+    if (missing.empty() && outlet.waitedS() > ready_timeout_s_)
+      missing = "its chunks waited " + seconds(outlet.waitedS()) +
+                " (~ready_timeout_s) for a consumer: " + outlet.missingText();
+  };
+  check(setpoint_out_);
+  check(laser_out_);
+  check(debug_out_);
+  if (!missing.empty())
+  {
+    abandon(missing);
+    return;
+  }
+  const bool held = setpoint_out_.pending() + laser_out_.pending() + debug_out_.pending() > 0;
+  if (held || nc_->done() || window_.canSend())
+  {
+    flow_clock_ = ros::WallTime::now();  // not waiting for an acknowledgement
+    return;
+  }
+  const double waited = (ros::WallTime::now() - flow_clock_).toSec();
+  if (waited > flow_timeout_s_)
+    abandon("no energy/ack for " + seconds(waited) + " (~flow_timeout_s) with the window full at sample " +
+            std::to_string(window_.acked()) + " of " + std::to_string(nc_->plan().total_samples) +
+            ": is energy_accumulator (or the stage before it) running?");
+}
+
+void NcInterpolatorNode::abandon(const std::string& why)
+{
+  ROS_ERROR("nc: job %u abandoned: %s", window_.jobId(), why.c_str());
+  nc_.reset();
+  setpoint_out_.clear();
+  laser_out_.clear();
+  debug_out_.clear();
 }
 
 void NcInterpolatorNode::pump()

@@ -22,7 +22,11 @@ namespace scanhead
 class NcInterpolatorNode
 {
 public:
-  /// Parameters: ~setpoint_subscribers (default 2: servo and optics), ~laser_subscribers (1).
+  /// Parameters: ~setpoint_consumers (node names, default galvo_servo optical_chain),
+  /// ~laser_consumers (optical_chain), ~debug_consumers (none): the consumers each stream waits
+  /// for (plus the global stream_recorders); ~ready_timeout_s (default 20): how long a job's chunks
+  /// wait for a missing consumer; ~flow_timeout_s (default 10): how long the full window waits for
+  /// an acknowledgement. Either timeout abandons the job with an error naming what is missing.
   NcInterpolatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   bool failed() const { return false; }
 
@@ -32,6 +36,8 @@ private:
   void onTimer(const ros::TimerEvent&);
   /// \brief Publishes chunks while the in-flight window allows.
   void pump();
+  /// \brief Gives the current job up (logged with \p why): its held chunks are dropped.
+  void abandon(const std::string& why);
 
   ChainConfig config_;
   std::unique_ptr<OpticalModel> optics_;
@@ -44,5 +50,7 @@ private:
   std::string settings_yaml_;  ///< this node's settings, sent with each plan
   ros::Timer timer_;
   FlowWindow window_;
+  double ready_timeout_s_ = 20.0, flow_timeout_s_ = 10.0;
+  ros::WallTime flow_clock_;  ///< since when the window has waited for an acknowledgement
 };
 }  // namespace scanhead

@@ -6,7 +6,7 @@
 namespace scanhead
 {
 OpticalChainNode::OpticalChainNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
-  : spot_out_(nh, "optics/spot", expectedSubscribers(nh, private_nh, "subscribers", 1))
+  : spot_out_(nh, private_nh, "optics/spot", "consumers", {"energy_accumulator"})
 {
   const ChainConfig config = chainConfigFromParams(nh);
   optics_ = opticalModelFromParams(nh, config.optics);
@@ -22,8 +22,8 @@ OpticalChainNode::OpticalChainNode(ros::NodeHandle& nh, ros::NodeHandle& private
   };
   binding.publish = [this](const SpotChunk& spots, const ChunkHeader& header) { spot_out_.push(toMsg(spots, header)); };
   adapter_ = std::make_unique<Adapter>(
-      nh, *stage_, std::array<std::string, 3>{"nc/setpoint", "nc/laser", "galvo/joint_states_chunk"},
+      nh, private_nh, *stage_, std::array<std::string, 3>{"nc/setpoint", "nc/laser", "galvo/joint_states_chunk"},
       std::move(binding), "optics");
-  timer_ = nh.createTimer(ros::Duration(0.01), [this](const ros::TimerEvent&) { spot_out_.flush(); });
+  timer_ = nh.createTimer(ros::Duration(0.01), [this](const ros::TimerEvent&) { spot_out_.refresh(); });
 }
 }  // namespace scanhead

@@ -20,7 +20,7 @@ namespace scanhead
 class OpticalChainNode
 {
 public:
-  /// Parameters: ~subscribers (default 1: energy).
+  /// Parameters: ~consumers (node names, default energy_accumulator), ~stall_timeout_s (ros_stage_node.hpp).
   OpticalChainNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   bool failed() const { return false; }
 

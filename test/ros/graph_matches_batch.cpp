@@ -1,6 +1,7 @@
 // Runs the live graph's job again in process and compares the metrics.yaml texts byte for byte;
 // and checks the graph ran as the launch said: every stream published by the one nodelet manager
-// (~manager set), or each by its own stage node (~manager empty).
+// (~manager set), or each by its own stage node (~manager empty), or the ~standalone_stages by
+// their own node and the others by the manager.
 #include <gtest/gtest.h>
 #include <ros/master.h>
 #include <ros/ros.h>
@@ -78,8 +79,14 @@ std::set<std::string> publishersOf(const std::string& topic)
 TEST(GraphMatchesBatch, StagesWhereTheLaunchPutThem)
 {
   ros::NodeHandle nh, private_nh("~");
-  std::string manager;
+  std::string manager, standalone_text;
   private_nh.param("manager", manager, std::string());
+  // Stages run as their own process beside the manager (a standalone NC feeding nodelets).
+  private_nh.param("standalone_stages", standalone_text, std::string());
+  std::set<std::string> standalone;
+  std::istringstream words(standalone_text);
+  for (std::string word; words >> word;)
+    standalone.insert(word);
   // The stream each stage publishes, by the stage's node name.
   const std::pair<const char*, const char*> streams[] = {{"nc/setpoint", "nc_interpolator"},
                                                          {"galvo/joint_states_chunk", "galvo_servo"},
@@ -87,7 +94,8 @@ TEST(GraphMatchesBatch, StagesWhereTheLaunchPutThem)
                                                          {"energy/ack", "energy_accumulator"}};
   for (const auto& [topic, node] : streams)
   {
-    const std::set<std::string> expected{manager.empty() ? ros::names::resolve(node) : ros::names::resolve(manager)};
+    const bool own_process = manager.empty() || standalone.count(node) != 0;
+    const std::set<std::string> expected{ros::names::resolve(own_process ? std::string(node) : manager)};
     std::set<std::string> publishers = publishersOf(nh.resolveName(topic));
     // Wait for the registration only if this test runs alone (after IdenticalMetrics all are up).
     for (const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);

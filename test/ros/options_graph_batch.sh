@@ -12,7 +12,7 @@ launch_dir="$(cd "$(dirname "$0")/../../launch" && pwd)"
 tmp=$(mktemp -d /tmp/scanhead_options.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 export ROS_IP=127.0.0.1
-export ROS_MASTER_URI="http://127.0.0.1:$((20000 + $$ % 10000))"
+export ROS_MASTER_URI="http://127.0.0.1:${SCANHEAD_ROS_PORT:-$((20000 + $$ % 10000))}"  # SCANHEAD_ROS_PORT: a fixed port
 compare() {  # name job settings... (optics.defects=SET goes to the launch file's defects:=)
   local name=$1 job=$2 defects=nominal
   shift 2

@@ -9,7 +9,7 @@ tmp=$(mktemp -d /tmp/scanhead_replay.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 job="corner:speed=2,angle=53.13"
 export ROS_IP=127.0.0.1
-export ROS_MASTER_URI="http://127.0.0.1:$((30000 + $$ % 10000))"
+export ROS_MASTER_URI="http://127.0.0.1:${SCANHEAD_ROS_PORT:-$((30000 + $$ % 10000))}"  # SCANHEAD_ROS_PORT: a fixed port
 "$run" --job "$job" --out "$tmp/batch" --quiet
 # The stages as nodelets in one manager (the default), then each its own node; the bag recorded with
 # nodelets is replayed by separate nodes and the other way round.

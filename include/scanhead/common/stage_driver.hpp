@@ -141,6 +141,10 @@ public:
     }
   }
 
+  /// \brief Ends the running job without its missing samples (its stream stalled): its later
+  /// chunks are dropped as late; a chunk at sample 0 starts a job again.
+  void abandon() { running_ = false; }
+
   std::uint32_t jobId() const { return job_id_; }
   bool running() const { return running_; }
   bool failed() const { return failed_; }

@@ -31,11 +31,22 @@ struct CornerReport
       0.0;  ///< max E on the map within (actual contour error + spot radius) of the commanded corner [J/m²]
 };
 
+/// \brief Where the stream of an incomplete run stopped (a stage died or hung mid-job).
+struct StreamGap
+{
+  std::string streams;              ///< the inputs that stopped, with the last sample seen on each
+  std::uint64_t next_sample = 0;    ///< the first sample that never came
+  std::uint64_t total_samples = 0;  ///< samples the job has
+  double waited_s = 0.0;            ///< seconds without a chunk before the run was given up
+};
+
 struct RunMetrics
 {
   std::string job_name;
   std::uint64_t samples = 0;
-  std::uint64_t dropped_samples = 0;  ///< samples missing from the stream (gaps between chunks)
+  std::uint64_t dropped_samples = 0;  ///< samples missing from the stream (gaps between chunks, the lost tail)
+  bool complete = true;               ///< false: the stream stopped before the job's end (stream_gap)
+  StreamGap stream_gap;               ///< where, when !complete
   double duration_s = 0.0;            ///< samples · Ts
   double laser_on_time_s = 0.0;
   double commanded_energy_j = 0.0;  ///< Σ P·Ts

@@ -30,6 +30,7 @@ public:
     return true;
   }
   std::uint32_t jobId() const { return job_id_; }
+  std::uint64_t acked() const { return acked_; }
 
 private:
   std::uint32_t job_id_ = 0;

@@ -8,6 +8,15 @@
 /// end); the chunks of a job that cannot start yet (its cam/job or nc/plan not here) wait, logged
 /// once. Memory stays bounded: at most kMaxPendingChunks incomplete or waiting chunks are held.
 /// A node is left with its parameters, its message conversions and its own extra outputs.
+///
+/// Once subscribed it announces itself on stream/ready (StageReady: its node name, its process,
+/// its input topics), which is what the producers wait for (ros_chunk_outlet.hpp); on destruction
+/// it says it went away. It watches for a stalled stream: a job open with no chunk run for
+/// `~stall_timeout_s` (default the global `stall_timeout_s`, else 3 s; 0: never), or chunks whose
+/// job could not start for that long (its cam/job or nc/plan never came). A stall is logged with
+/// what was seen of each input, the job is abandoned (its later chunks are dropped as late, the
+/// next job starts clean) and the node's `stalled` hook is called (the energy node writes what it
+/// has as an incomplete result).
 #pragma once
 
 #include <ros/ros.h>
@@ -29,6 +38,16 @@
 
 namespace scanhead
 {
+/// \brief What a consumer knows of a stalled job.
+struct StreamStall
+{
+  std::uint32_t job_id = 0;
+  std::uint64_t next_sample = 0;    ///< the first sample that never came
+  std::uint64_t total_samples = 0;  ///< samples the job has
+  double waited_s = 0.0;            ///< seconds without a chunk
+  std::string streams;              ///< the inputs that stopped, with the last sample seen on each
+};
+
 template <class StageT, class... InMsgs>
 class StageNodeAdapter
 {
@@ -53,19 +72,38 @@ public:
     std::function<void(const ChunkInfo& chunk)> consumed;
     /// The job's last sample is in (optional); \p ok false if it failed or a chunk threw.
     std::function<void(std::uint32_t job_id, bool ok)> finished;
+    /// The job stalled (optional): called before the job is abandoned (the stage still holds it).
+    std::function<void(const StreamStall& stall)> stalled;
+    /// A job's chunks were dropped after waiting too long for what the job needs (optional).
+    std::function<void(std::uint32_t job_id)> unstartable;
   };
 
+  /// \param[in] private_nh the node's private handle: its name (what producers expect) and parameters
   /// \param[in] stage   kept by reference (must outlive this)
   /// \param[in] topics  one input topic per message type, in order
   /// \param[in] name    the node's name in log lines
-  StageNodeAdapter(ros::NodeHandle& nh, StageT& stage, const std::array<std::string, kInputs>& topics, Binding binding,
-                   std::string name)
+  StageNodeAdapter(ros::NodeHandle& nh, const ros::NodeHandle& private_nh, StageT& stage,
+                   const std::array<std::string, kInputs>& topics, Binding binding, std::string name)
     : binding_(std::move(binding))
     , name_(std::move(name))
     , driver_(stage, driverHooks())
   {
+    double fallback = 3.0;
+    nh.param("stall_timeout_s", fallback, fallback);
+    private_nh.param("stall_timeout_s", stall_timeout_s_, fallback);
     subscribeAll(nh, topics, std::index_sequence_for<InMsgs...>());
+    // After subscribing: from now on this node gets every chunk published on its topics.
+    std::vector<std::string> resolved;
+    for (const ros::Subscriber& s : subscribers_)
+      resolved.push_back(s.getTopic());
+    announcer_ = std::make_unique<ReadyAnnouncer>(nh, private_nh.getNamespace(), resolved);
+    if (stall_timeout_s_ > 0.0)
+      stall_timer_ = nh.createWallTimer(ros::WallDuration(std::min(0.25, stall_timeout_s_ / 4.0)),
+                                        [this](const ros::WallTimerEvent&) { checkStall(); });
   }
+
+  StageNodeAdapter(const StageNodeAdapter&) = delete;
+  StageNodeAdapter& operator=(const StageNodeAdapter&) = delete;
 
   /// \brief Offers the waiting chunks again (call when a job or a plan arrives), in stream order.
   void retry()
@@ -110,13 +148,76 @@ private:
     const boost::function<void(const boost::shared_ptr<const Msg>&)> callback =
         [this](const boost::shared_ptr<const Msg>& msg) {
           const Key key{msg->chunk.job_id, msg->chunk.first_index};
+          if (msg->chunk.job_id == seen_job_[I])
+            seen_end_[I] = std::max(seen_end_[I], msg->chunk.first_index + sizeOf(*msg));
+          else
+          {
+            seen_job_[I] = msg->chunk.job_id;
+            seen_end_[I] = msg->chunk.first_index + sizeOf(*msg);
+          }
           // No copy: the std::shared_ptr keeps the received message alive.
           std::get<I>(pending_[key]) = std::shared_ptr<const Msg>(msg.get(), [msg](const Msg*) {});
           tryProcess(key);
         };
     subscribers_[I] = nh.subscribe<Msg>(topic, 0, callback, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
-    // After subscribing: its producer in this process counts this stage from now on (ChunkOutlet).
-    consumers_[I] = std::make_unique<InProcessConsumer>(subscribers_[I].getTopic());
+  }
+
+  /// \brief The stall watch (a wall timer): a job open without progress, or chunks waiting too long.
+  void checkStall()
+  {
+    const ros::WallTime now = ros::WallTime::now();
+    if (driver_.running() && (now - last_progress_).toSec() > stall_timeout_s_)
+    {
+      StreamStall stall;
+      stall.job_id = driver_.jobId();
+      stall.next_sample = driver_.sequence().next();
+      stall.total_samples = total_samples_;
+      stall.waited_s = (now - last_progress_).toSec();
+      for (std::size_t i = 0; i < kInputs; ++i)
+      {
+        const bool this_job = seen_job_[i] == stall.job_id;
+        const std::uint64_t end = this_job ? seen_end_[i] : 0;
+        if (end > stall.next_sample)
+          continue;  // this input is ahead: another one stopped
+        if (!stall.streams.empty())
+          stall.streams += ", ";
+        stall.streams += subscribers_[i].getTopic() + " (last chunk ended at sample " + std::to_string(end) + ")";
+      }
+      ROS_ERROR(
+          "%s: job %u stalled: no chunk for %.1f s (~stall_timeout_s %.1f); sample %llu of %llu never came "
+          "from %s; the job is abandoned",
+          name_.c_str(), stall.job_id, stall.waited_s, stall_timeout_s_,
+          static_cast<unsigned long long>(stall.next_sample), static_cast<unsigned long long>(stall.total_samples),
+          stall.streams.c_str());
+      if (binding_.stalled)
+        binding_.stalled(stall);
+      driver_.abandon();
+      dropJob(stall.job_id);
+    }
+    for (auto it = waiting_since_.begin(); it != waiting_since_.end();)
+    {
+      const std::uint32_t job_id = it->first;
+      const double waited = (now - it->second).toSec();
+      ++it;
+      if (waited > stall_timeout_s_)
+      {
+        ROS_ERROR(
+            "%s: the chunks of job %u waited %.1f s (~stall_timeout_s) for what their job needs (cam/job, "
+            "nc/plan), which never came: dropped",
+            name_.c_str(), job_id, waited);
+        dropJob(job_id);
+        if (binding_.unstartable)
+          binding_.unstartable(job_id);
+      }
+    }
+  }
+
+  /// \brief Forgets the held chunks of \p job_id.
+  void dropJob(std::uint32_t job_id)
+  {
+    for (auto it = pending_.begin(); it != pending_.end();)
+      it = it->first.first == job_id ? pending_.erase(it) : std::next(it);
+    waiting_since_.erase(job_id);
   }
 
   static bool complete(const Messages& m)
@@ -133,15 +234,18 @@ private:
       const ChunkInfo chunk{header.job_id, header.first_index, chunkSize(it->second), header.period,
                             header.total_samples};
       const ChunkVerdict verdict = driver_.offer(chunk);
-      if (verdict == ChunkVerdict::Wait && waiting_logged_.insert(header.job_id).second)
+      if (verdict == ChunkVerdict::Wait && waiting_since_.emplace(header.job_id, ros::WallTime::now()).second)
         ROS_WARN("%s: the chunks of job %u wait for what their job needs (cam/job, nc/plan)", name_.c_str(),
                  header.job_id);
       if (verdict != ChunkVerdict::Wait)
       {
+        waiting_since_.erase(header.job_id);
         const Messages messages = std::move(it->second);
         pending_.erase(it);
         if (verdict == ChunkVerdict::Run)
         {
+          last_progress_ = ros::WallTime::now();
+          total_samples_ = header.total_samples;
           current_ = std::get<0>(messages);
           driver_.run(chunk, [&](StageT& stage) { return binding_.process(stage, messages); });
           current_.reset();
@@ -168,15 +272,26 @@ private:
   {
     return msg.power.size();
   }
+  template <class Msg>
+  static auto sizeOf(const Msg& msg) -> decltype(msg.position.size())
+  {
+    return msg.position.size() / 2;  // x, y of each sample
+  }
 
   using FirstMsg = std::tuple_element_t<0, std::tuple<InMsgs...>>;
   Binding binding_;
   std::string name_;
   StageDriver<StageT> driver_;
   std::array<ros::Subscriber, kInputs> subscribers_;
-  std::array<std::unique_ptr<InProcessConsumer>, kInputs> consumers_;  ///< after subscribers_: destroyed first
   std::map<Key, Messages> pending_;
-  std::set<std::uint32_t> waiting_logged_;   ///< jobs whose waiting was logged (once each)
-  std::shared_ptr<const FirstMsg> current_;  ///< the first input of the chunk being run (its header)
+  std::map<std::uint32_t, ros::WallTime> waiting_since_;  ///< jobs whose chunks wait for their job to start
+  std::unique_ptr<ReadyAnnouncer> announcer_;             ///< after subscribers_: withdrawn before they go
+  double stall_timeout_s_ = 3.0;
+  ros::WallTimer stall_timer_;
+  ros::WallTime last_progress_;                    ///< when the running job last ran a chunk
+  std::uint64_t total_samples_ = 0;                ///< of the running job
+  std::array<std::uint32_t, kInputs> seen_job_{};  ///< per input: the job of the last chunk received
+  std::array<std::uint64_t, kInputs> seen_end_{};  ///< per input: the end of the furthest chunk of that job
+  std::shared_ptr<const FirstMsg> current_;        ///< the first input of the chunk being run (its header)
 };
 }  // namespace scanhead
