@@ -32,6 +32,19 @@ void NcConfig::validate() const
   requireSetting(max_joint_speed_radps > 0.0, "nc.max_joint_speed_radps", "> 0", max_joint_speed_radps);
   requireSetting(implicit_jump_speed_mps > 0.0, "nc.implicit_jump_speed_mps", "> 0", implicit_jump_speed_mps);
   requireSetting(tail_s >= 0.0, "nc.tail_s", ">= 0", tail_s);
+  // The controller's range (nc_config.hpp): every stage's work per machine second grows as 1/Ts.
+  requireSetting(period_s >= kMinPeriod_s && period_s <= kMaxPeriod_s, "nc.period_s",
+                 "in [1e-06, 0.001] s (1 MHz .. 1 kHz, the range of galvo controllers; XY2-100 runs at 100 kHz)",
+                 period_s);
+  // A box FIR holds and sums T/Ts samples a channel every period.
+  requireSetting(
+      fir_t1_s <= kMaxFirPeriods * period_s, "nc.fir_t1_s",
+      "<= 10000·nc.period_s (its memory and work per sample grow with T/Ts; industrial NCs: tens of periods)",
+      fir_t1_s);
+  requireSetting(
+      fir_t2_s <= kMaxFirPeriods * period_s, "nc.fir_t2_s",
+      "<= 10000·nc.period_s (its memory and work per sample grow with T/Ts; industrial NCs: tens of periods)",
+      fir_t2_s);
   igt.validate();
   requireChoice(filter_mode, "nc.filter_mode", {"fixed", "adaptive"});
   requireSetting(max_joint_accel_radps2 > 0.0, "nc.max_joint_accel_radps2", "> 0", max_joint_accel_radps2);
