@@ -12,12 +12,14 @@
 #include "scanhead/chain/energy_stage.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/energy/map_regions.hpp"
 #include "scanhead/energy/tiled_energy_map.hpp"
 #include "scanhead/job/path_timeline.hpp"
 #include "scanhead/job/recipe.hpp"
 #include "scanhead/nc/adaptive_fir.hpp"
 #include "scanhead/nc/nc_program.hpp"
 #include "scanhead/optics/joint_gain.hpp"
+#include "scanhead/report/energy_exports.hpp"
 
 namespace scanhead
 {
@@ -25,8 +27,10 @@ namespace
 {
 // Memory (bytes), see the header. The base and the per-sample constants were measured with
 // /usr/bin/time on scanhead_run (corner, hatch, THESIS layer; Release build).
-constexpr double kBaseBytes = 60.0e6;                // process, optics, libraries, results images
-constexpr double kChunkBytesPerSample = 1000.0;      // every stream's chunks in flight + the NC's work arrays
+constexpr double kBaseBytes = 30.0e6;         // process, optics, libraries
+constexpr double kImageBytesPerPixel = 14.0;  // an exported image: float map, float TIFF rows, 16-bit PNG, colour
+constexpr double kColourImageBytes = 2000.0 * 2000.0 * 4.0;  // the colour PNG (at most 2000 px a side)
+constexpr double kChunkBytesPerSample = 1000.0;              // every stream's chunks in flight + the NC's work arrays
 constexpr double kProgramCopies = 5.0;               // NC plan, corner tracker, laser checks, layer metrics, job
 constexpr double kPathBytesPerSample = 8.0 + 0.125;  // float x, y + a break bit (path_points.cpp)
 constexpr double kIndexBytesPerSample = 8.0;         // nearest-path index elements, cells and items
@@ -37,9 +41,12 @@ constexpr double kTileBytes = TiledEnergyMap::kTileSide * TiledEnergyMap::kTileS
 constexpr double kProducerSecondsPerSample = 0.55e-6;  // NC 3.1 M/s, servo 16 M/s, optics 6.5 M/s
 constexpr double kServoSecondsPerStep = 0.065e-6;      // one cascade controller period, both axes
 constexpr double kSecondsPerFirTap = 2.0e-9;           // a box FIR's sum, per tap and sample (all filters)
-constexpr double kEnergySecondsPerSample = 0.45e-6;    // the layer metrics and the map's bookkeeping
-constexpr double kSecondsPerPixel = 4.5e-9;            // a pixel weight of the deposit
+constexpr double kEnergySecondsPerSample = 1.5e-6;     // the layer metrics and the map's bookkeeping
+constexpr double kSecondsPerPixel = 9.0e-9;            // a pixel of the band estimate below (≈ 2 weights computed)
+constexpr double kSetupSeconds = 0.02;                 // the stages' reset and the metrics' last pass
 constexpr double kThermalSamplesPerSecond = 3.0e4;
+// The actual path leaves the command by up to tens of µm at corners (the servo's following error).
+constexpr double kFollowingMargin_m = 20e-6;
 // Beyond this many tile visits the touched tiles are bounded by a formula instead of rasterised.
 constexpr double kMaxRasterVisits = 2.0e7;
 constexpr double kMaxRasterTiles = 134217728.0;  // 2^27 tiles: a 16 MB bitmap
@@ -272,7 +279,7 @@ void configWarnings(const ChainConfig& config, std::vector<std::string>& warning
 double MemoryEstimate::total() const
 {
   return base + chunks + nc_filters + program + map_directory + map_tiles + contour_path + contour_index +
-         same_instant + fill_grid + track + thermal;
+         same_instant + fill_grid + track + thermal + results;
 }
 
 std::string MemoryEstimate::largestPart(double* bytes) const
@@ -289,6 +296,7 @@ std::string MemoryEstimate::largestPart(double* bytes) const
       {"fill-rate grid (energy.spot_diameter_m over the job's extent)", fill_grid},
       {"track-energy samples (energy.track_max_samples)", track},
       {"thermal grid (thermal.window_m / thermal.cell_m)", thermal},
+      {"results images (the overview and energy.crop_parts / energy.crop_regions)", results},
   };
   const auto* best = std::max_element(std::begin(parts), std::end(parts),
                                       [](const auto& a, const auto& b) { return a.second < b.second; });
@@ -374,8 +382,8 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
   const double radius = footprintRadius(e);
   const double tile_m = side * e.pixel_m;
   if (plan.map_tiles <= 2147483648.0)  // TiledEnergyMap refuses more (ConfigError)
-    plan.map_tiles_touched = touchedTiles(timeline, radius + 50e-6, lo, tile_m, static_cast<std::int64_t>(tiles_x),
-                                          static_cast<std::int64_t>(tiles_y));
+    plan.map_tiles_touched = touchedTiles(timeline, radius + kFollowingMargin_m, lo, tile_m,
+                                          static_cast<std::int64_t>(tiles_x), static_cast<std::int64_t>(tiles_y));
   const double cache_tiles = std::max(16.0, std::floor(static_cast<double>(e.tile_cache_bytes) / kTileBytes));
   plan.map_tiles_resident = std::min(plan.map_tiles_touched, cache_tiles);
   plan.map_spill_bytes = (plan.map_tiles_touched - plan.map_tiles_resident) * side * side * 4.0;
@@ -427,6 +435,23 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
     const double cells = std::ceil(config.thermal.model.window_m / config.thermal.model.cell_m);
     m.thermal = cells * cells * kThermalBytesPerCell;
   }
+  // The results folder's images (energy_exports.cpp): the overview and the crops, each averaged
+  // down to at most kOverviewSide / kCropSide pixels a side.
+  auto image_bytes = [&](double w, double h, double max_side) {
+    const double f = std::max(1.0, std::ceil(std::max(w, h) / max_side));
+    return std::ceil(w / f) * std::ceil(h / f) * kImageBytesPerPixel + kColourImageBytes;
+  };
+  m.results = image_bytes(width, height, kOverviewSide);
+  std::vector<MapRegion> crops = jobParts(job, 2.0 * e.spot_diameter_m);
+  if (crops.size() > e.crop_parts)
+    crops.resize(e.crop_parts);
+  for (const MapRegion& region : parseMapRegions(e.crop_regions))
+    crops.push_back(region);
+  for (const MapRegion& crop : crops)
+  {
+    const Eigen::Vector2d size = (crop.max_corner - crop.min_corner) / e.pixel_m;
+    m.results += image_bytes(std::ceil(size.x()) + 1.0, std::ceil(size.y()) + 1.0, kCropSide);
+  }
 
   // Wall time: the producer thread (NC, servo, optics) and the energy stage.
   const bool cascade = config.servo.model == "cascade";
@@ -447,7 +472,8 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
             : plan.machine_time_s;
     thermal = window_s / ts / kThermalSamplesPerSecond;
   }
-  plan.wall_time_s = (config.stream.threads >= 2 ? std::max(producer, energy) : producer + energy) + thermal;
+  plan.wall_time_s =
+      kSetupSeconds + (config.stream.threads >= 2 ? std::max(producer, energy) : producer + energy) + thermal;
   return plan;
 }
 
@@ -502,7 +528,7 @@ std::string runPlanText(const RunPlan& p)
   char line[512];
   std::string out;
   std::snprintf(line, sizeof line,
-                "plan: %s of machine time (program %s, tail %s), %.4g samples at %.3g us, map %lld x %lld px, "
+                "plan: %s of machine time (program %s, tail %s), %.0f samples at %.3g us, map %lld x %lld px, "
                 "~%.0f tiles touched (%.0f spilled to disk)\n",
                 timeText(p.machine_time_s).c_str(), timeText(p.program_duration_s).c_str(), timeText(p.tail_s).c_str(),
                 p.samples, p.period_s * 1e6, static_cast<long long>(p.map_width_px),

@@ -27,14 +27,17 @@
 ///   the same-instant ring (32 B × 2^⌈log2(2W/Ts + 3)⌉) and command cache;
 /// - track energy: laser-on samples up to energy.track_max_samples, 88 B each (vector capacity);
 /// - thermal view (if on): (window/cell)² cells × 48 B;
-/// - a fixed base (code, optics, libraries, results images): measured 60 MB.
+/// - the results folder's images: the overview and each crop, averaged to at most 4000 / 8000 px a
+///   side (energy_exports.hpp), 14 B a pixel (float map, TIFF rows, 16-bit PNG) + the colour PNG;
+/// - a fixed base (code, optics, libraries): measured 30 MB.
 ///
 /// \par Wall time (an estimate: the rates measured on the 2-core development VM, README "Performance")
 /// producer (NC + servo + optics) ≈ N·(0.55 µs + 0.065 µs·(controller steps a sample − 1) +
-/// 2 ns·FIR taps), energy stage ≈ N·0.45 µs + pixels drawn × 4.5 ns (exact: per mark, rows × (length
-/// + rows) with rows = 2·R_trunc/pixel; sampled: rows² per sub-step), thermal view 3e4 samples/s;
-/// two threads take the larger of producer and energy stage, one the sum. Stated as a range
-/// [0.5×, 2×] of that figure.
+/// 2 ns·FIR taps), energy stage ≈ N·1.5 µs + pixels × 9 ns (pixels: exact, per mark rows × (length
+/// + rows) with rows = 2·R_trunc/pixel; sampled, rows² per sub-step), thermal view 3e4 samples/s,
+/// plus 20 ms of setup; two threads take the larger of producer and energy stage, one the sum.
+/// Fitted to the README's THESIS layer (67.9 s chain, 3.05e7 samples, 2.5e9 band pixels) and hatch
+/// (3.2–3.5× real time); stated as a range [0.5×, 2×] of that figure.
 #pragma once
 
 #include <Eigen/Core>
@@ -100,6 +103,7 @@ struct MemoryEstimate
   double fill_grid = 0.0;      ///< the fill-rate grid
   double track = 0.0;          ///< the track-energy samples
   double thermal = 0.0;        ///< the thermal view's grid
+  double results = 0.0;        ///< the results folder's images (overview, crops)
   double total() const;
   /// \brief The largest part and its name (for messages).
   std::string largestPart(double* bytes = nullptr) const;
