@@ -167,12 +167,20 @@ double touchedTiles(const PathTimeline& timeline, double radius_m, const Eigen::
   return count;
 }
 
-/// Which setting a polyline's speed or power came from (the recipe overrides the job's).
+/// Which setting a speed or power came from: a key, or a job polyline's field (named on use only:
+/// a job may have millions of polylines).
 struct SettingSource
 {
-  std::string name;  ///< key or job field
+  const char* key = nullptr;  ///< the config key, or the field of polyline `polyline`
   double value = 0.0;
+  std::size_t polyline = 0;
+  bool from_job = false;
 };
+
+std::string nameOf(const SettingSource& s, const Job& job)
+{
+  return s.from_job ? polylineField(job, s.polyline) + "." + s.key : std::string(s.key);
+}
 
 /// The impossible and the questionable speeds and powers: errors thrown, warnings appended.
 void checkSpeedsAndPowers(const ChainConfig& config, const Recipe& recipe, const Job& job, const SpeedBounds& bounds,
@@ -181,11 +189,12 @@ void checkSpeedsAndPowers(const ChainConfig& config, const Recipe& recipe, const
   std::vector<SettingSource> mark_speeds, other_speeds, powers;
   if (recipe.override_job)
   {
-    mark_speeds = {{"recipe.contour_speed_mps", recipe.contour_speed_mps},
-                   {"recipe.hatch_speed_mps", recipe.hatch_speed_mps}};
-    other_speeds = {{"recipe.jump_speed_mps", recipe.jump_speed_mps},
-                    {"recipe.contour_jump_speed_mps", recipe.contour_jump_speed_mps}};
-    powers = {{"recipe.contour_power_w", recipe.contour_power_w}, {"recipe.hatch_power_w", recipe.hatch_power_w}};
+    mark_speeds.push_back({"recipe.contour_speed_mps", recipe.contour_speed_mps});
+    mark_speeds.push_back({"recipe.hatch_speed_mps", recipe.hatch_speed_mps});
+    other_speeds.push_back({"recipe.jump_speed_mps", recipe.jump_speed_mps});
+    other_speeds.push_back({"recipe.contour_jump_speed_mps", recipe.contour_jump_speed_mps});
+    powers.push_back({"recipe.contour_power_w", recipe.contour_power_w});
+    powers.push_back({"recipe.hatch_power_w", recipe.hatch_power_w});
   }
   else
   {
@@ -194,9 +203,9 @@ void checkSpeedsAndPowers(const ChainConfig& config, const Recipe& recipe, const
       const Polyline& line = job.polylines[p];
       const bool mark = line.type == PolylineType::Mark;
       if (line.dwell_s <= 0.0)
-        (mark ? mark_speeds : other_speeds).push_back({polylineField(job, p) + ".speed", line.speed_mps});
+        (mark ? mark_speeds : other_speeds).push_back({"speed", line.speed_mps, p, true});
       if (mark)
-        powers.push_back({polylineField(job, p) + ".power", line.power_w});
+        powers.push_back({"power", line.power_w, p, true});
     }
   }
   other_speeds.push_back({"nc.implicit_jump_speed_mps", config.nc.implicit_jump_speed_mps});
@@ -206,12 +215,12 @@ void checkSpeedsAndPowers(const ChainConfig& config, const Recipe& recipe, const
     if (!(s.value <= v_max))
     {
       const std::string text =
-          s.name + " = " + significantText(s.value, 6) +
+          nameOf(s, job) + " = " + significantText(s.value, 6) +
           " m/s is above what the galvos can reach: " + significantText(v_max, 4) +
           " m/s (their no-load speed U/Ke = " + significantText(bounds.no_load_speed_radps.minCoeff(), 4) +
           " rad/s, servo.<axis>.plant.supply_voltage_v / torque_constant_nm_per_a, times the "
           "optics' largest spot speed per joint rate over the field)";
-      if (s.name.rfind("recipe.", 0) == 0 || s.name.rfind("nc.", 0) == 0)
+      if (!s.from_job)
         throw ConfigError(text);
       throw InputError(text);
     }
@@ -223,7 +232,7 @@ void checkSpeedsAndPowers(const ChainConfig& config, const Recipe& recipe, const
   for (const SettingSource& s : powers)
   {
     if (!(s.value <= kMaxLaserPower_w))
-      throw InputError(s.name + " = " + significantText(s.value, 6) +
+      throw InputError(nameOf(s, job) + " = " + significantText(s.value, 6) +
                        " W is above any continuous-wave laser (<= 1e+06 W; LPBF lasers: 200 W - 1 kW)");
   }
 
@@ -239,7 +248,7 @@ void checkSpeedsAndPowers(const ChainConfig& config, const Recipe& recipe, const
           worst = &s;
       }
     if (worst != nullptr)
-      warnings.push_back(worst->name + " = " + significantText(worst->value, 6) + what +
+      warnings.push_back(nameOf(*worst, job) + " = " + significantText(worst->value, 6) + what +
                          (count > 1 ? " (" + std::to_string(count) + " settings or polylines)" : std::string()));
   };
   warn_above(powers, kLpbfLaserPower_w, " W is above the ~1 kW of LPBF lasers (EOS M 290: 400 W; SLM 280: <= 1 kW)");
@@ -362,7 +371,10 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
   double end_s = timeline.duration() + 2.0 * delay;
   const auto& windows = program.gate.windows();
   if (!windows.empty())
-    end_s = std::max(end_s, windows.back().off_s + shift);
+  {
+    plan.last_laser_off_s = windows.back().off_s + shift;
+    end_s = std::max(end_s, plan.last_laser_off_s);
+  }
   plan.samples = ceilSnapped((end_s + nc.tail_s) / ts) + 1.0;
   plan.machine_time_s = plan.samples * ts;
   for (const LaserWindow& w : windows)

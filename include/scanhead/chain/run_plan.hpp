@@ -117,6 +117,7 @@ struct RunPlan
   double program_duration_s = 0.0;           ///< the NC program: Σ L/v + holds + skywriting [s]
   double filter_delay_s = 0.0;               ///< D [s]
   double tail_s = 0.0;                       ///< nc.tail_s [s]
+  double last_laser_off_s = 0.0;             ///< the last laser window's end on the sample timeline [s]
   double samples = 0.0;                      ///< N (a double: an absurd job may exceed 2^64)
   double machine_time_s = 0.0;               ///< N·Ts [s]
   double laser_on_samples = 0.0;             ///< samples inside the laser windows
