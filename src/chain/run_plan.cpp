@@ -514,6 +514,10 @@ void enforceRunLimits(const RunPlan& plan, const LimitsConfig& limits, std::uint
     throw ConfigError(job + "its machine time would be " + timeText(plan.machine_time_s) + " (program " +
                       timeText(plan.program_duration_s) + " + filters " + timeText(2.0 * plan.filter_delay_s) +
                       " + tail nc.tail_s " + timeText(plan.tail_s) +
+                      (plan.last_laser_off_s > plan.program_duration_s + 2.0 * plan.filter_delay_s
+                           ? "; the last laser-off at " + timeText(plan.last_laser_off_s) +
+                                 " sets it: recipe.laser_off_delay_s"
+                           : std::string()) +
                       "), above limits.max_machine_time_s = " + timeText(limits.max_machine_time_s) +
                       "; check the job's speeds and dwells and the NC's delays, or raise limits.max_machine_time_s");
   if (!(plan.samples <= limits.max_samples))
