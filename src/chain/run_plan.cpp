@@ -27,10 +27,10 @@ namespace
 {
 // Memory (bytes), see the header. The base and the per-sample constants were measured with
 // /usr/bin/time on scanhead_run (corner, hatch, THESIS layer; Release build).
-constexpr double kBaseBytes = 30.0e6;         // process, optics, libraries
-constexpr double kImageBytesPerPixel = 14.0;  // an exported image: float map, float TIFF rows, 16-bit PNG, colour
-constexpr double kColourImageBytes = 2000.0 * 2000.0 * 4.0;  // the colour PNG (at most 2000 px a side)
-constexpr double kChunkBytesPerSample = 1000.0;              // every stream's chunks in flight + the NC's work arrays
+constexpr double kBaseBytes = 30.0e6;                // process, optics, libraries
+constexpr double kImageBytesPerPixel = 10.0;         // an exported image: float map, float TIFF rows, 16-bit PNG
+constexpr double kColourSide = 2000.0;               // the colour PNG: at most 2000 px a side, 4 B a pixel
+constexpr double kChunkBytesPerSample = 1000.0;      // every stream's chunks in flight + the NC's work arrays
 constexpr double kProgramCopies = 5.0;               // NC plan, corner tracker, laser checks, layer metrics, job
 constexpr double kPathBytesPerSample = 8.0 + 0.125;  // float x, y + a break bit (path_points.cpp)
 constexpr double kIndexBytesPerSample = 8.0;         // nearest-path index elements, cells and items
@@ -48,7 +48,7 @@ constexpr double kThermalSamplesPerSecond = 3.0e4;
 // The actual path leaves the command by up to tens of µm at corners (the servo's following error).
 constexpr double kFollowingMargin_m = 20e-6;
 // Beyond this many tile visits the touched tiles are bounded by a formula instead of rasterised.
-constexpr double kMaxRasterVisits = 2.0e7;
+constexpr double kMaxRasterVisits = 6.0e7;
 constexpr double kMaxRasterTiles = 134217728.0;  // 2^27 tiles: a 16 MB bitmap
 
 std::string bytesText(double bytes)
@@ -451,7 +451,8 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
   // down to at most kOverviewSide / kCropSide pixels a side.
   auto image_bytes = [&](double w, double h, double max_side) {
     const double f = std::max(1.0, std::ceil(std::max(w, h) / max_side));
-    return std::ceil(w / f) * std::ceil(h / f) * kImageBytesPerPixel + kColourImageBytes;
+    const double iw = std::ceil(w / f), ih = std::ceil(h / f);
+    return iw * ih * kImageBytesPerPixel + std::min(iw, kColourSide) * std::min(ih, kColourSide) * 4.0;
   };
   m.results = image_bytes(width, height, kOverviewSide);
   std::vector<MapRegion> crops = jobParts(job, 2.0 * e.spot_diameter_m);
@@ -511,15 +512,15 @@ void enforceRunLimits(const RunPlan& plan, const LimitsConfig& limits, std::uint
 {
   const std::string job = "job '" + plan.job_name + "': ";
   if (!(plan.machine_time_s <= limits.max_machine_time_s))
-    throw ConfigError(job + "its machine time would be " + timeText(plan.machine_time_s) + " (program " +
-                      timeText(plan.program_duration_s) + " + filters " + timeText(2.0 * plan.filter_delay_s) +
-                      " + tail nc.tail_s " + timeText(plan.tail_s) +
-                      (plan.last_laser_off_s > plan.program_duration_s + 2.0 * plan.filter_delay_s
-                           ? "; the last laser-off at " + timeText(plan.last_laser_off_s) +
-                                 " sets it: recipe.laser_off_delay_s"
-                           : std::string()) +
-                      "), above limits.max_machine_time_s = " + timeText(limits.max_machine_time_s) +
-                      "; check the job's speeds and dwells and the NC's delays, or raise limits.max_machine_time_s");
+    throw ConfigError(
+        job + "its machine time would be " + timeText(plan.machine_time_s) + " (program " +
+        timeText(plan.program_duration_s) + " + filters " + timeText(2.0 * plan.filter_delay_s) + " + tail nc.tail_s " +
+        timeText(plan.tail_s) +
+        (plan.last_laser_off_s > plan.program_duration_s + 2.0 * plan.filter_delay_s
+             ? "; the last laser-off at " + timeText(plan.last_laser_off_s) + " sets it: recipe.laser_off_delay_s"
+             : std::string()) +
+        "), above limits.max_machine_time_s = " + timeText(limits.max_machine_time_s) +
+        "; check the job's speeds and dwells and the NC's delays, or raise limits.max_machine_time_s");
   if (!(plan.samples <= limits.max_samples))
     throw ConfigError(job + significantText(plan.samples, 4) + " samples (" + timeText(plan.machine_time_s) +
                       " at nc.period_s = " + significantText(plan.period_s, 4) + " s) exceed limits.max_samples = " +

@@ -28,7 +28,8 @@
 /// - track energy: laser-on samples up to energy.track_max_samples, 88 B each (vector capacity);
 /// - thermal view (if on): (window/cell)² cells × 48 B;
 /// - the results folder's images: the overview and each crop, averaged to at most 4000 / 8000 px a
-///   side (energy_exports.hpp), 14 B a pixel (float map, TIFF rows, 16-bit PNG) + the colour PNG;
+///   side (energy_exports.hpp), 10 B a pixel (float map, TIFF rows, 16-bit PNG) + the colour PNG
+///   (4 B a pixel, at most 2000 px a side);
 /// - a fixed base (code, optics, libraries): measured 30 MB.
 ///
 /// \par Wall time (an estimate: the rates measured on the 2-core development VM, README "Performance")
