@@ -45,8 +45,8 @@ expect_error() {  # expect_error LABEL EXPECTED_TEXT ARGS...
     fail "$label: a bare exception: $out"
   elif ! grep -qF -- "$expected" <<<"$out"; then
     fail "$label: message lacks '$expected': $out"
-  elif [ -e "$tmp/out_$label" ] || ls -a "$tmp" | grep -q partial; then
-    fail "$label: a results folder was left behind"
+  elif [ -e "$tmp/out_$label" ] || ls -a "$tmp" | grep -qE "partial|staging|out_$label\.lock"; then
+    fail "$label: a results folder, staging folder or lock was left behind: $(ls -a "$tmp" | tr '\n' ' ')"
   else
     echo "ok   $label ($wall s, $((rss / 1024)) MiB): $out"
   fi
