@@ -1,9 +1,13 @@
 #include "scanhead/chain/batch_chain.hpp"
 
+#include <cstdio>
 #include <exception>
+#include <new>
 #include <thread>
 
 #include "scanhead/common/bounded_queue.hpp"
+#include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
 
 namespace scanhead
 {
@@ -12,15 +16,40 @@ namespace
 /// Spot chunks in flight between the two threads: enough to absorb the jitter of either side,
 /// few enough that memory stays small (4 × 1000 samples × 88 B).
 constexpr std::size_t kQueuedChunks = 4;
+
+void printWarning(const std::string& warning)
+{
+  std::fprintf(stderr, "warning: %s\n", warning.c_str());
+}
+
+/// The settings that size what \p stage allocates, for the out-of-memory message.
+std::string outOfMemoryText(const std::string& job, const std::string& stage, const RunPlan& plan)
+{
+  std::string text = job + "out of memory in " + stage;
+  if (plan.memory.total() > 0.0)
+  {
+    double part = 0.0;
+    const std::string largest = plan.memory.largestPart(&part);
+    text += " (the plan estimated " + significantText(plan.memory.total() / 1e6, 4) + " MB, the largest part " +
+            largest + ": " + significantText(part / 1e6, 4) + " MB)";
+  }
+  return text +
+         "; what grows with the settings: stream.chunk_samples, nc.fir_t1_s/nc.fir_t2_s against nc.period_s, "
+         "nc.igt.table_nodes, energy.pixel_m, energy.tile_cache_bytes, energy.contour_max_samples, "
+         "energy.track_max_samples, thermal.window_m/thermal.cell_m; lower limits.max_memory_fraction so the "
+         "plan refuses such runs before they start";
+}
 }  // namespace
 
 BatchChain::BatchChain(const ChainConfig& config, const OpticalModel& optics)
-  : config_(config)
-  , nc_(config, optics)
-  , servo_(config.servo)
-  , optics_(optics)
-  , energy_(config)
+try : config_(config), optics_model_(optics), warn_(printWarning), nc_(config, optics), servo_(config.servo),
+    optics_(optics), energy_(config)
 {
+}
+catch (const std::bad_alloc&)
+{
+  throw ConfigError(
+      outOfMemoryText("", "building the stages (the NC's correction tables: nc.igt.table_nodes)", RunPlan()));
 }
 
 SpotChunk BatchChain::nextSpotChunk()
@@ -31,6 +60,29 @@ SpotChunk BatchChain::nextSpotChunk()
 }
 
 RunMetrics BatchChain::run(const Job& job, const ProgressCallback& progress)
+{
+  // Planned before anything that grows with the job is allocated (the plan itself is analytic).
+  plan_ = RunPlan();
+  plan_ = planRun(config_, job, optics_model_);
+  enforceRunLimits(plan_, config_.limits, physicalMemoryBytes());
+  if (warn_)
+    for (const std::string& warning : plan_.warnings)
+      warn_(warning);
+  RunMetrics metrics;
+  try
+  {
+    metrics = runPlanned(job, progress);
+  }
+  catch (const std::bad_alloc&)
+  {
+    throw ConfigError(
+        outOfMemoryText("job '" + job.name + "': ", "the chain (NC -> servo -> optics -> energy)", plan_));
+  }
+  metrics.warnings = plan_.warnings;
+  return metrics;
+}
+
+RunMetrics BatchChain::runPlanned(const Job& job, const ProgressCallback& progress)
 {
   nc_.reset(job);
   const PlannedJob planned{job, nc_.plan()};

@@ -174,6 +174,10 @@ void visitSettings(Config& c, F&& f)
   f("thermal.face_conductivity", c.thermal.model.face_conductivity);
   f("thermal.active_threshold_k", c.thermal.model.active_threshold_k);
   f("thermal.settle_time_s", c.thermal.model.settle_time_s);
+  f("limits.max_machine_time_s", c.limits.max_machine_time_s);
+  f("limits.max_samples", c.limits.max_samples);
+  f("limits.max_memory_fraction", c.limits.max_memory_fraction);
+  f("limits.max_memory_bytes", c.limits.max_memory_bytes);
 }
 
 std::string origin(const std::string& key, const ConfigValue& v)
@@ -405,6 +409,20 @@ void StreamConfig::validate() const
   requireSetting(chunk_samples >= 1, "stream.chunk_samples", ">= 1", static_cast<double>(chunk_samples));
   requireSetting(window_chunks >= 1, "stream.window_chunks", ">= 1", static_cast<double>(window_chunks));
   requireSetting(threads == 1 || threads == 2, "stream.threads", "1 or 2", static_cast<double>(threads));
+  // Every stage holds a few chunks (~1 kB a sample over the streams and the NC's work arrays):
+  // 1e6 samples (10 s at 100 kHz) is already ~1 GB, and larger chunks gain nothing.
+  requireSetting(chunk_samples <= 1000000, "stream.chunk_samples", "<= 1000000 (memory grows with it, ~1 kB a sample)",
+                 static_cast<double>(chunk_samples));
+  requireSetting(window_chunks <= 1000000, "stream.window_chunks", "<= 1000000", static_cast<double>(window_chunks));
+}
+
+void LimitsConfig::validate() const
+{
+  requireSetting(max_machine_time_s > 0.0, "limits.max_machine_time_s", "> 0", max_machine_time_s);
+  requireSetting(max_samples >= 1.0, "limits.max_samples", ">= 1", max_samples);
+  requireSetting(max_memory_fraction > 0.0 && max_memory_fraction <= 1.0, "limits.max_memory_fraction", "in (0, 1]",
+                 max_memory_fraction);
+  requireSetting(max_memory_bytes >= 0.0, "limits.max_memory_bytes", ">= 0 (0: the fraction only)", max_memory_bytes);
 }
 
 void ChainConfig::validate() const
@@ -417,6 +435,7 @@ void ChainConfig::validate() const
   optics.validate();
   energy.validate();
   thermal.validate();
+  limits.validate();
 }
 
 void ThermalStageConfig::validate() const

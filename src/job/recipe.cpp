@@ -20,7 +20,10 @@ constexpr double kThesisOnDelay12_s = 395e-6;
 constexpr double kThesisOffDelay12_s = 107e-6;
 constexpr double kThesisOnDelay3_s = 341e-6;
 constexpr double kThesisOffDelay3_s = 53e-6;
-constexpr double kThesisPower_w = 200.0;  ///< thesis_square_job.hpp: 200 W on every mark
+constexpr double kThesisPower_w = 200.0;
+constexpr const char* kMaxPowerText =
+    "<= 1e+06 W (no continuous-wave laser reaches it; LPBF: 200 W - 1 kW)";  ///< thesis_square_job.hpp: 200 W on every
+                                                                             ///< mark
 
 /// 1, 2 or 3 for "thesis1".."thesis3", 0 otherwise.
 int thesisNumber(const std::string& preset)
@@ -59,6 +62,8 @@ void RecipeConfig::validate() const
   requireSetting(contour_jump_speed_mps > 0.0, "recipe.contour_jump_speed_mps", "> 0", contour_jump_speed_mps);
   requireSetting(contour_power_w >= 0.0, "recipe.contour_power_w", ">= 0", contour_power_w);
   requireSetting(hatch_power_w >= 0.0, "recipe.hatch_power_w", ">= 0", hatch_power_w);
+  requireSetting(contour_power_w <= kMaxLaserPower_w, "recipe.contour_power_w", kMaxPowerText, contour_power_w);
+  requireSetting(hatch_power_w <= kMaxLaserPower_w, "recipe.hatch_power_w", kMaxPowerText, hatch_power_w);
   requireSetting(std::isfinite(laser_on_delay_s), "recipe.laser_on_delay_s", "finite", laser_on_delay_s);
   requireSetting(std::isfinite(laser_off_delay_s), "recipe.laser_off_delay_s", "finite", laser_off_delay_s);
 }

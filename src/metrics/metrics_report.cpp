@@ -161,6 +161,21 @@ std::string metricsToYaml(const RunMetrics& m)
 {
   std::ostringstream out;
   out << "job: \"" << m.job_name << "\"\n";
+  if (!m.warnings.empty())
+  {
+    out << "warnings:  # questionable but possible settings (run plan)\n";
+    for (const std::string& w : m.warnings)
+    {
+      std::string quoted;
+      for (const char c : w)
+      {
+        if (c == '"' || c == '\\')
+          quoted += '\\';
+        quoted += c;
+      }
+      out << "  - \"" << quoted << "\"\n";
+    }
+  }
   out << "samples: " << m.samples << "\n";
   out << "dropped_samples: " << m.dropped_samples << "\n";
   if (!m.complete)  // only an incomplete run has these lines: a complete one reads as before

@@ -28,6 +28,11 @@ void ServoConfig::validate() const
   y.validate("y");
   requireSetting(kc_over_jeq > 0.0, "servo.kc_over_jeq", "> 0", kc_over_jeq);
   requireSetting(controller_rate_hz > 0.0, "servo.controller_rate_hz", "> 0", controller_rate_hz);
+  // Digital galvo servo loops run at 10–200 kHz (THESIS bench 20 kHz, this NC 100 kHz); each
+  // controller period is a step of the cascade model, so the rate sets its work per machine second.
+  requireSetting(controller_rate_hz >= kMinControllerRate_hz && controller_rate_hz <= kMaxControllerRate_hz,
+                 "servo.controller_rate_hz", "in [1000, 1e+06] Hz (the range of digital galvo servo loops)",
+                 controller_rate_hz);
   if (feedforward_derivatives != "nc" && feedforward_derivatives != "differentiate")
   {
     throw ConfigError("servo.feedforward_derivatives: unknown '" + feedforward_derivatives +

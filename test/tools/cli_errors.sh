@@ -63,5 +63,18 @@ if [ $code -eq 0 ] || [ ! -f "$tmp/foreign/keep.txt" ] || [ -e "$tmp/foreign/met
 else
   echo "ok   foreign folder: $out"
 fi
+# Issue 14: impossible settings and jobs are errors naming the key or field and the range; a job
+# beyond the limits is refused by the run plan, naming the key to raise. (--plots none where the
+# refusal comes from BatchChain::run: no plotter is started that the error would have to cancel.)
+expect_error period_range "nc.period_s must be in [1e-06, 0.001] s" --set nc.period_s=1
+expect_error controller_range "servo.controller_rate_hz must be in [1000, 1e+06] Hz" --set servo.controller_rate_hz=1e12
+expect_error fir_periods "nc.fir_t1_s must be <= 10000" --set nc.fir_t1_s=1e3
+expect_error pixel_spot "energy.pixel_m must be <= energy.spot_diameter_m/2" --set energy.pixel_m=1
+expect_error truncation "energy.truncation_radii must be <= 5" --set energy.truncation_radii=6
+job fast '{type: mark, speed: 1e300, power: 200, points: [[0, 0], [0.001, 0]]}'
+expect_error fast "fast.yaml: polylines[0].speed = 1e+300 m/s is above what the galvos can reach" --job "$tmp/fast.yaml" --plots none
+job power '{type: mark, speed: 1, power: 1e15, points: [[0, 0], [0.001, 0]]}'
+expect_error power "power.yaml: polylines[0].power = 1e+15 W is above any continuous-wave laser" --job "$tmp/power.yaml" --plots none
+expect_error tail "above limits.max_machine_time_s" --set nc.tail_s=1e6 --plots none
 echo "$failures failure(s)"
 [ $failures -eq 0 ]

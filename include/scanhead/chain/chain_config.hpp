@@ -44,6 +44,25 @@ struct ThermalStageConfig
   }
 };
 
+/// \brief Bounds on one batch run, checked by the run plan (run_plan.hpp) before anything that grows
+/// with the job is allocated: beyond any of them the run is refused with a message naming the
+/// cause and the key to raise.
+struct LimitsConfig
+{
+  /// Machine time of the job (samples · Ts, tail included) [s]. 4 h: a whole LPBF layer takes
+  /// minutes (the THESIS layer 305 s); at the measured 3–7× real time 4 h still needs ~1 h of wall.
+  double max_machine_time_s = 14400.0;
+  /// Samples of the job (every stage's work and the per-sample metrics grow with it): 4 h at 100 kHz.
+  double max_samples = 1.44e9;
+  /// Share of the machine's physical memory (/proc/meminfo MemTotal) the run's estimated peak may take.
+  double max_memory_fraction = 0.5;
+  /// Absolute bound on the estimated peak memory [bytes]; 0: the fraction above only.
+  double max_memory_bytes = 0.0;
+
+  /// \throws ConfigError naming limits.<field>
+  void validate() const;
+};
+
 struct ChainConfig
 {
   CamConfig cam;
@@ -54,6 +73,7 @@ struct ChainConfig
   OpticsConfig optics;
   EnergyConfig energy;
   ThermalStageConfig thermal;
+  LimitsConfig limits;
 
   /// \brief Validates every section. \throws ConfigError naming the first bad field
   void validate() const;

@@ -9,6 +9,13 @@ namespace scanhead
 {
 struct EnergyConfig
 {
+  /// Map pixel against the spot diameter d: at most d/2 (= w, a pixel wider than the 1/e² radius
+  /// cannot resolve the spot; questionable above d/5, run_plan.hpp), at least d/100.
+  static constexpr double kMaxPixelPerDiameter = 0.5;
+  static constexpr double kMinPixelPerDiameter = 0.01;
+  /// Largest footprint truncation [radii w]: exp(-2·5²) = 2e-22 of the peak (float rounds at 2.9 w).
+  static constexpr double kMaxTruncationRadii = 5.0;
+
   double spot_diameter_m = 70.0e-6;  ///< 1/e² diameter 2w of the Gaussian spot [m] (THESIS §2.5)
   double pixel_m = 5.0e-6;           ///< map pixel pitch [m]
   /// How each sample's energy reaches the map: "exact" (the footprint integrated in closed form along the segment

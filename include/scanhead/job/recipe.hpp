@@ -8,6 +8,14 @@
 
 namespace scanhead
 {
+/// \brief Above this a laser power is impossible [W]: the largest continuous-wave industrial
+/// lasers are multi-kW fibre lasers of the 100 kW class (IPG YLS series); LPBF lasers give
+/// 200 W–1 kW (EOS M 290: 400 W; SLM 280: up to 1 kW). A power is checked against it wherever it
+/// is set (recipe, cam, job polylines: run_plan.hpp).
+constexpr double kMaxLaserPower_w = 1.0e6;
+/// \brief Above this a power is possible but not LPBF's (warning, run_plan.hpp) [W].
+constexpr double kLpbfLaserPower_w = 1.0e3;
+
 /// \brief A recipe as the machine operator sets it.
 ///
 /// preset "job": the job's own speeds and powers, only the laser delays below apply;

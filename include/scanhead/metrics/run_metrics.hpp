@@ -85,6 +85,9 @@ struct RunMetrics
   ThermalEnergy thermal_energy;         ///< its energy books [J]
   double thermal_melted_area_m2 = 0.0;  ///< cells melted at least once [m²]
   std::vector<CornerReport> corners;
+  /// Questionable but possible settings of the run (run_plan.hpp), one sentence each; written to
+  /// metrics.yaml only when there is one.
+  std::vector<std::string> warnings;
 };
 
 /// \brief Closed forms of NC §3.2–3.3 (SPEC §2) for a corner of direction change γ at speed V through

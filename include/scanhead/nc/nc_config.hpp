@@ -36,6 +36,15 @@ struct SkywritingConfig
 
 struct NcConfig
 {
+  /// Range of the sample period [s]: 1 µs .. 1 ms, i.e. 1 MHz .. 1 kHz, the span of galvo
+  /// controllers (the XY2-100 link and the THESIS NC run at 100 kHz, the THESIS bench's servo at
+  /// 20 kHz); outside it a setting is a typo (1e-12 s would need 1e12 samples a machine second).
+  static constexpr double kMinPeriod_s = 1.0e-6;
+  static constexpr double kMaxPeriod_s = 1.0e-3;
+  /// Longest box FIR in periods: a filter keeps ceil(T/Ts) + 2 samples a channel and sums them every
+  /// period (box_filter.hpp), so T/Ts bounds its memory and work; the industrial NC's are 26 and 12.5.
+  static constexpr double kMaxFirPeriods = 10000.0;
+
   double period_s = 1.0e-5;              ///< Ts, NC sample period [s]
   double fir_t1_s = 260.0e-6;            ///< first box FIR duration [s] (NC §2.2, measured)
   double fir_t2_s = 125.0e-6;            ///< second box FIR duration [s]

@@ -34,6 +34,12 @@ struct AxisLoopConfig
 
 struct ServoConfig
 {
+  /// Range of servo.controller_rate_hz [Hz]: digital galvo servo loops run at 10–200 kHz (the
+  /// THESIS bench 20 kHz, this NC 100 kHz); 1 kHz .. 1 MHz leaves a decade either side. The
+  /// period must also be a whole multiple or fraction of the NC's (GalvoServo).
+  static constexpr double kMinControllerRate_hz = 1.0e3;
+  static constexpr double kMaxControllerRate_hz = 1.0e6;
+
   std::string model = "cascade";  ///< "cascade" (SPEC §3 plant + loops) or "closed_loop_3rd_order"
   /// X: lighter mirror, faster (NC Fig. 4)
   AxisLoopConfig x{1300.0, 0.7, 1.5, defaultPlantX(), defaultGainsX()};
