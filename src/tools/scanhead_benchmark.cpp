@@ -19,6 +19,7 @@
 #include "scanhead/job/job_files.hpp"
 #include "scanhead/optics/correction_table.hpp"
 #include "support/command_line.hpp"
+#include "support/tool_errors.hpp"
 
 using namespace scanhead;
 using Clock = std::chrono::steady_clock;
@@ -344,7 +345,7 @@ int main(int argc, char** argv)
   }
   catch (const std::exception& e)
   {
-    std::cerr << "scanhead_benchmark: error: " << e.what() << "\n";
+    std::cerr << "scanhead_benchmark: error: " << scanhead::toolErrorText(e) << "\n";
     return 1;
   }
 }

@@ -7,6 +7,7 @@
 #include "scanhead/common/text_file.hpp"
 #include "scanhead/metrics/run_comparison.hpp"
 #include "support/command_line.hpp"
+#include "support/tool_errors.hpp"
 #include "support/python_plots.hpp"
 
 namespace
@@ -61,7 +62,7 @@ int main(int argc, char** argv)
   }
   catch (const std::exception& e)
   {
-    std::cerr << "scanhead_compare: error: " << e.what() << "\n";
+    std::cerr << "scanhead_compare: error: " << scanhead::toolErrorText(e) << "\n";
     return 1;
   }
 }

@@ -12,6 +12,7 @@
 #include "scanhead/servo/km0/km0_report.hpp"
 #include "scanhead/servo/loop_analysis.hpp"
 #include "support/command_line.hpp"
+#include "support/tool_errors.hpp"
 #include "support/python_plots.hpp"
 
 namespace
@@ -80,7 +81,7 @@ int main(int argc, char** argv)
   }
   catch (const std::exception& e)
   {
-    std::cerr << "scanhead_galvo: error: " << e.what() << "\n";
+    std::cerr << "scanhead_galvo: error: " << scanhead::toolErrorText(e) << "\n";
     return 1;
   }
 }

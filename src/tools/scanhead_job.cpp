@@ -19,6 +19,7 @@
 #include "scanhead/job/job_stats.hpp"
 #include "scanhead/report/job_picture.hpp"
 #include "support/command_line.hpp"
+#include "support/tool_errors.hpp"
 
 namespace
 {
@@ -173,7 +174,7 @@ int main(int argc, char** argv)
   }
   catch (const std::exception& e)
   {
-    std::cerr << "scanhead_job: error: " << e.what() << "\n";
+    std::cerr << "scanhead_job: error: " << scanhead::toolErrorText(e) << "\n";
     return 1;
   }
 }

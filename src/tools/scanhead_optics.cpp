@@ -18,6 +18,7 @@
 #include "scanhead/optics/influence_map.hpp"
 #include "scanhead/optics/optical_defects.hpp"
 #include "support/command_line.hpp"
+#include "support/tool_errors.hpp"
 #include "support/python_plots.hpp"
 
 namespace
@@ -265,7 +266,7 @@ int main(int argc, char** argv)
   }
   catch (const std::exception& e)
   {
-    std::cerr << "scanhead_optics: error: " << e.what() << "\n";
+    std::cerr << "scanhead_optics: error: " << scanhead::toolErrorText(e) << "\n";
     return 1;
   }
 }

@@ -21,6 +21,7 @@
 #include "scanhead/metrics/metrics_report.hpp"
 #include "support/command_line.hpp"
 #include "support/python_plots.hpp"
+#include "support/tool_errors.hpp"
 
 #include <chrono>
 
@@ -119,6 +120,9 @@ int main(int argc, char** argv)
     const OpticalModel optics = loadOpticalModel(config.optics);
     Job job = loadJob(args.job, config.cam);
     validateScanJob(job, config.optics.field_half_width_m);
+    // The plan refuses a job beyond limits.* (or physically impossible) before anything is started.
+    const RunPlan plan = planRun(config, job, optics);
+    enforceRunLimits(plan, config.limits, physicalMemoryBytes());
     out = args.out.empty() ? "results/" + job.name : args.out;
     // The folder is ours before anything is computed: a second run on it fails now, naming this one.
     std::vector<std::string> stale;
@@ -131,6 +135,7 @@ int main(int argc, char** argv)
       std::printf("job %s: %zu marks (%.3f mm), %zu jumps (%.3f mm), ideal time %.3f ms, laser energy %.4g J\n",
                   job.name.c_str(), stats.mark_count, stats.mark_length_m * 1e3, stats.jump_count,
                   stats.jump_length_m * 1e3, stats.ideal_time_s * 1e3, stats.laser_on_energy_j);
+      std::printf("%s", runPlanText(plan).c_str());
     }
 
     // Python imports matplotlib while the chain runs; only the drawing is left at the end.
@@ -216,7 +221,7 @@ int main(int argc, char** argv)
   }
   catch (const std::exception& e)
   {
-    std::cerr << "scanhead_run: error: " << e.what() << "\n";
+    std::cerr << "scanhead_run: error: " << scanhead::toolErrorText(e) << "\n";
     return 1;
   }
 }

@@ -11,6 +11,7 @@
 #include "scanhead/optics/correction_table.hpp"
 #include "scanhead/optics/optical_defects.hpp"
 #include "support/command_line.hpp"
+#include "support/tool_errors.hpp"
 
 namespace
 {
@@ -104,7 +105,7 @@ int main(int argc, char** argv)
   }
   catch (const std::exception& e)
   {
-    std::cerr << "scanhead_table: error: " << e.what() << "\n";
+    std::cerr << "scanhead_table: error: " << scanhead::toolErrorText(e) << "\n";
     return 1;
   }
 }

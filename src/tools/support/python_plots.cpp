@@ -4,6 +4,7 @@
 #include <dirent.h>
 #include <fcntl.h>
 #include <poll.h>
+#include <pthread.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
@@ -30,16 +31,6 @@ void warnSkipped(const std::string& what, const std::string& path)
 {
   std::fprintf(stderr, "scanhead: %s skipped (%s failed; is python3-matplotlib installed?)\n", what.c_str(),
                path.c_str());
-}
-
-/// waitpid that retries on EINTR; \return the status, or -1
-int reap(pid_t pid)
-{
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR)
-      return -1;
-  return status;
 }
 
 /// Whether process group \p group has a member that is not a zombie (a zombie writes nothing; an
@@ -130,16 +121,32 @@ PlotProcess::PlotProcess(const std::string& script, const std::vector<std::strin
   if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, ends) != 0)
     return;
   std::fflush(nullptr);  // the child must not repeat our buffered output
+  // Signals are blocked across the fork: between fork and exec the child still has our handlers
+  // (scanhead_run's only record a stop request), so a SIGTERM from cancel() landing there would be
+  // swallowed and the script would start anyway, with nobody left to stop it. The child resets
+  // its caught signals to their defaults before unblocking them, so such a signal ends it.
+  sigset_t all;
+  sigset_t old;
+  sigfillset(&all);
+  pthread_sigmask(SIG_SETMASK, &all, &old);
   const pid_t pid = fork();
   if (pid == 0)
   {
     // Only async-signal-safe calls until exec: its own process group (so that cancel() stops the
     // drawing processes it forks too), stdin from the socket, stderr to our stdout.
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP})
+    {
+      struct sigaction action;
+      if (sigaction(sig, nullptr, &action) == 0 && action.sa_handler != SIG_IGN)
+        signal(sig, SIG_DFL);  // an ignored signal (nohup) stays ignored, as exec would keep it
+    }
+    sigprocmask(SIG_SETMASK, &old, nullptr);
     if (setpgid(0, 0) != 0 || dup2(ends[1], STDIN_FILENO) < 0 || dup2(STDOUT_FILENO, STDERR_FILENO) < 0)
       _exit(127);
     execv(kPython, argv.data());
     _exit(127);
   }
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
   close(ends[1]);
   if (pid < 0)
   {
@@ -162,7 +169,19 @@ void PlotProcess::cancel()
   if (pid_ > 0)
   {
     kill(-pid_, SIGTERM);  // the script and the drawing processes it forked: the plots are not wanted
-    reap(pid_);
+    if (socket_ >= 0)
+    {
+      close(socket_);  // end of its input too, should it be reading it
+      socket_ = -1;
+    }
+    // Bounded wait: whatever the script does with SIGTERM, it is gone within 2 s.
+    int status = 0;
+    for (int waited = 0; waitpid(pid_, &status, WNOHANG) == 0; waited += 10)
+    {
+      if (waited == 2000)
+        kill(-pid_, SIGKILL);
+      sleepMs(10);
+    }
     pid_ = -1;
   }
   if (group_ > 0)
