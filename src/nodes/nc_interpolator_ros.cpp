@@ -129,7 +129,9 @@ void NcInterpolatorNode::onTimer(const ros::TimerEvent&)
   {
     ROS_WARN("nc: job %u: %s; %s alive%s: a slow stage holds the flow (abandoned after ~hang_timeout_s %.1f s)",
              window_.jobId(), where.c_str(), UpstreamLiveness::join(live.alive).c_str(),
-             live.unanswered.empty() ? "" : ("; not answering now: " + UpstreamLiveness::join(live.unanswered)).c_str(),
+             live.unanswered.empty()
+                 ? ""
+                 : ("; " + UpstreamLiveness::join(live.unanswered) + " not answering (stopped or busy)").c_str(),
              hang_timeout_s_);
     flow_warned_ = true;
   }

@@ -210,16 +210,19 @@ private:
               seconds(hang_timeout_s_);
       if (why.empty())
       {
-        if (!waiting_warned_)
+        if (!waiting_warned_ && live.unanswered.empty())
           ROS_WARN(
-              "%s: job %u waiting for %s: %s%s alive but silent for %.1f s; a slower stage downstream holds the flow "
+              "%s: job %u waiting for %s: %s alive but silent for %.1f s; a slower stage downstream holds the flow "
               "(a stall after ~hang_timeout_s %.1f s)",
               name_.c_str(), stall.job_id, UpstreamLiveness::join(silent).c_str(),
-              UpstreamLiveness::join(live.alive).c_str(),
-              live.unanswered.empty()
-                  ? ""
-                  : (" (not answering now: " + UpstreamLiveness::join(live.unanswered) + ")").c_str(),
-              silent_s, hang_timeout_s_);
+              UpstreamLiveness::join(live.alive).c_str(), silent_s, hang_timeout_s_);
+        else if (!waiting_warned_)
+          ROS_WARN(
+              "%s: job %u waiting for %s, silent for %.1f s: %s not answering (stopped or busy), %s alive (a stall "
+              "after ~hang_timeout_s %.1f s)",
+              name_.c_str(), stall.job_id, UpstreamLiveness::join(silent).c_str(), silent_s,
+              UpstreamLiveness::join(live.unanswered).c_str(), UpstreamLiveness::join(live.alive).c_str(),
+              hang_timeout_s_);
         waiting_warned_ = true;
       }
       else
