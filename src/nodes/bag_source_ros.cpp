@@ -7,7 +7,9 @@ namespace scanhead
 BagSourceNode::BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
   : setpoint_out_(nh, private_nh, "nc/setpoint", "setpoint_consumers", {"galvo_servo", "optical_chain"})
   , laser_out_(nh, private_nh, "nc/laser", "laser_consumers", {"optical_chain"})
+  , downstream_(nh)
 {
+  hang_timeout_s_ = timeoutParam(nh, private_nh, "hang_timeout_s", hang_timeout_s_);
   private_nh.param("ready_timeout_s", ready_timeout_s_, ready_timeout_s_);
   private_nh.param("flow_timeout_s", flow_timeout_s_, flow_timeout_s_);
   std::string path;
@@ -48,6 +50,7 @@ void BagSourceNode::onAck(const ChunkAck& msg)
   if (window_.onAck(msg))
   {
     flow_clock_ = ros::WallTime::now();
+    flow_warned_ = false;
     pump();
   }
 }
@@ -67,9 +70,27 @@ void BagSourceNode::onTimer(const ros::TimerEvent&)
     error = laser_out_.missingText();
   else if (setpoint_out_.pending() + laser_out_.pending() > 0 || next_ == view_->end() || window_.canSend())
     flow_clock_ = ros::WallTime::now();
-  else if ((ros::WallTime::now() - flow_clock_).toSec() > flow_timeout_s_)
-    error = "no energy/ack for " + std::to_string(flow_timeout_s_) + " s (~flow_timeout_s) at sample " +
-            std::to_string(window_.acked()) + ": is energy_accumulator (or the stage before it) running?";
+  else if ((ros::WallTime::now() - flow_clock_).toSec() > flow_timeout_s_ &&
+           (ros::WallTime::now() - last_ping_).toSec() >= 1.0)
+  {
+    // A full window is an error only if a stage owing acknowledgements is gone, or hangs too long.
+    last_ping_ = ros::WallTime::now();
+    const double waited = (last_ping_ - flow_clock_).toSec();
+    const UpstreamLiveness live = downstream_.check({ack_sub_.getTopic()}, 0.5);
+    const std::string where =
+        "no energy/ack for " + std::to_string(waited) + " s at sample " + std::to_string(window_.acked());
+    if (live.anyDead())
+      error = where + " (~flow_timeout_s); gone: " + UpstreamLiveness::join(live.dead);
+    else if (hang_timeout_s_ > 0.0 && waited > hang_timeout_s_)
+      error = where + " (~hang_timeout_s); alive: " + UpstreamLiveness::join(live.alive) +
+              (live.unanswered.empty() ? "" : "; not answering: " + UpstreamLiveness::join(live.unanswered));
+    else if (!flow_warned_)
+    {
+      ROS_WARN("bag_source: %s; %s alive: a slow stage holds the flow", where.c_str(),
+               UpstreamLiveness::join(live.alive).c_str());
+      flow_warned_ = true;
+    }
+  }
   if (error.empty())
     return;
   ROS_FATAL("bag_source: replay abandoned: %s", error.c_str());

@@ -16,6 +16,7 @@
 
 #include "ros_chunk_outlet.hpp"
 #include "ros_flow_window.hpp"
+#include "ros_liveness.hpp"
 
 namespace scanhead
 {
@@ -24,7 +25,9 @@ class BagSourceNode
 public:
   /// Parameters: ~bag (path, required), ~window_chunks (default 16), ~setpoint_consumers (node
   /// names, default galvo_servo optical_chain), ~laser_consumers (optical_chain), ~ready_timeout_s
-  /// (20), ~flow_timeout_s (10): past either the replay ends with an error naming what is missing.
+  /// (20), ~flow_timeout_s (10): past either the replay ends with an error naming what is missing,
+  /// except that a full window whose consumers are all alive (pinged: ros_liveness.hpp) waits
+  /// until ~hang_timeout_s (default the global hang_timeout_s, else 60; 0: never).
   BagSourceNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   bool failed() const { return failed_; }
 
@@ -46,6 +49,10 @@ private:
   FlowWindow window_;
   double ready_timeout_s_ = 20.0, flow_timeout_s_ = 10.0;
   ros::WallTime flow_clock_;  ///< since when the window has waited for an acknowledgement
+  double hang_timeout_s_ = 60.0;
+  UpstreamWatch downstream_;  ///< the stages owing acknowledgements (upstream of energy/ack)
+  ros::WallTime last_ping_;   ///< the last liveness check of a full window
+  bool flow_warned_ = false;  ///< the full window's wait on live stages was reported
   bool failed_ = false;
 };
 }  // namespace scanhead

@@ -28,9 +28,11 @@ NcInterpolatorNode::NcInterpolatorNode(ros::NodeHandle& nh, ros::NodeHandle& pri
   , setpoint_out_(nh, private_nh, "nc/setpoint", "setpoint_consumers", {"galvo_servo", "optical_chain"})
   , laser_out_(nh, private_nh, "nc/laser", "laser_consumers", {"optical_chain"})
   , debug_out_(nh, private_nh, "nc/debug", "debug_consumers", {})
+  , downstream_(nh)
 {
   private_nh.param("ready_timeout_s", ready_timeout_s_, ready_timeout_s_);
   private_nh.param("flow_timeout_s", flow_timeout_s_, flow_timeout_s_);
+  hang_timeout_s_ = timeoutParam(nh, private_nh, "hang_timeout_s", hang_timeout_s_);
   settings_yaml_ = chainConfigToYaml(config_);
   plan_pub_ = nh.advertise<NcJobPlan>("nc/plan", 1, true);
   job_sub_ = nh.subscribe("cam/job", 10, &NcInterpolatorNode::onJob, this);
@@ -54,6 +56,7 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
     laser_out_.clear();
     debug_out_.clear();
     flow_clock_ = ros::WallTime::now();
+    flow_warned_ = false;
     ROS_INFO("nc: job %u '%s': %llu samples (%.3f ms)", msg.job_id, job.name.c_str(),
              static_cast<unsigned long long>(nc_->plan().total_samples),
              1e3 * nc_->plan().total_samples * config_.nc.period_s);
@@ -70,6 +73,10 @@ void NcInterpolatorNode::onAck(const ChunkAck& msg)
   if (window_.onAck(msg))
   {
     flow_clock_ = ros::WallTime::now();
+    if (flow_warned_)
+      ROS_INFO("nc: job %u resumed: energy/ack at sample %llu", window_.jobId(),
+               static_cast<unsigned long long>(window_.acked()));
+    flow_warned_ = false;
     pump();
   }
 }
@@ -102,11 +109,32 @@ void NcInterpolatorNode::onTimer(const ros::TimerEvent&)
     flow_clock_ = ros::WallTime::now();  // not waiting for an acknowledgement
     return;
   }
-  const double waited = (ros::WallTime::now() - flow_clock_).toSec();
-  if (waited > flow_timeout_s_)
-    abandon("no energy/ack for " + seconds(waited) + " (~flow_timeout_s) with the window full at sample " +
-            std::to_string(window_.acked()) + " of " + std::to_string(nc_->plan().total_samples) +
-            ": is energy_accumulator (or the stage before it) running?");
+  const ros::WallTime now = ros::WallTime::now();
+  const double waited = (now - flow_clock_).toSec();
+  if (waited <= flow_timeout_s_ || (now - last_ping_).toSec() < 1.0)
+    return;
+  // A full window is an error only if a stage owing acknowledgements is gone, or hangs too long:
+  // the energy node may just be busy (a big job's results). Checked at most once a second.
+  last_ping_ = now;
+  const UpstreamLiveness live = downstream_.check({ack_sub_.getTopic()}, 0.5);
+  const std::string where = "no energy/ack for " + seconds(waited) + " with the window full at sample " +
+                            std::to_string(window_.acked()) + " of " + std::to_string(nc_->plan().total_samples);
+  if (live.anyDead())
+    abandon(where + " (~flow_timeout_s " + seconds(flow_timeout_s_) + "); gone: " + UpstreamLiveness::join(live.dead));
+  else if (hang_timeout_s_ > 0.0 && waited > hang_timeout_s_)
+    abandon(where + " (~hang_timeout_s " + seconds(hang_timeout_s_) +
+            "); alive: " + UpstreamLiveness::join(live.alive) +
+            (live.unanswered.empty() ? "" : "; not answering: " + UpstreamLiveness::join(live.unanswered)));
+  else if (!flow_warned_)
+  {
+    ROS_WARN("nc: job %u: %s; %s alive%s: a slow stage holds the flow (abandoned after ~hang_timeout_s %.1f s)",
+             window_.jobId(), where.c_str(), UpstreamLiveness::join(live.alive).c_str(),
+             live.unanswered.empty()
+                 ? ""
+                 : ("; " + UpstreamLiveness::join(live.unanswered) + " not answering (stopped or busy)").c_str(),
+             hang_timeout_s_);
+    flow_warned_ = true;
+  }
 }
 
 void NcInterpolatorNode::abandon(const std::string& why)

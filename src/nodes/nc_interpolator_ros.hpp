@@ -14,6 +14,7 @@
 
 #include "ros_chunk_outlet.hpp"
 #include "ros_flow_window.hpp"
+#include "ros_liveness.hpp"
 #include "scanhead/chain/chain_config.hpp"
 #include "scanhead/chain/chain_stages.hpp"
 
@@ -26,7 +27,11 @@ public:
   /// ~laser_consumers (optical_chain), ~debug_consumers (none): the consumers each stream waits
   /// for (plus the global stream_recorders); ~ready_timeout_s (default 20): how long a job's chunks
   /// wait for a missing consumer; ~flow_timeout_s (default 10): how long the full window waits for
-  /// an acknowledgement. Either timeout abandons the job with an error naming what is missing.
+  /// an acknowledgement before the nodes downstream are pinged (ros_liveness.hpp): if one owing
+  /// acknowledgements is gone the job is abandoned naming it; if all are alive (a slow stage) a
+  /// warning is logged and the window waits until ~hang_timeout_s (default the global
+  /// hang_timeout_s, else 60; 0: never). Each timeout abandons the job with an error naming what
+  /// is missing.
   NcInterpolatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
   bool failed() const { return false; }
 
@@ -50,7 +55,10 @@ private:
   std::string settings_yaml_;  ///< this node's settings, sent with each plan
   ros::Timer timer_;
   FlowWindow window_;
-  double ready_timeout_s_ = 20.0, flow_timeout_s_ = 10.0;
+  double ready_timeout_s_ = 20.0, flow_timeout_s_ = 10.0, hang_timeout_s_ = 60.0;
   ros::WallTime flow_clock_;  ///< since when the window has waited for an acknowledgement
+  UpstreamWatch downstream_;  ///< the stages owing acknowledgements (upstream of energy/ack)
+  ros::WallTime last_ping_;   ///< the last liveness check of a full window
+  bool flow_warned_ = false;  ///< the full window's wait on live stages was reported
 };
 }  // namespace scanhead

@@ -12,6 +12,13 @@
 #     identical to the batch run.
 #  5. a consumer the NC expects never comes: the NC gives the job up naming it (~ready_timeout_s),
 #     the energy node fails the planned job (~start_timeout_s) and the launch ends, no results folder.
+#  6. a slow but live stage: the energy node stopped (SIGSTOP) for 12 s mid-job, then continued
+#     (SIGCONT): the stages upstream see no chunk for longer than stall_timeout_s and the NC's full
+#     window no ack for longer than flow_timeout_s, ping the graph, find it alive and wait with a
+#     warning; the job completes, metrics.yaml identical to the batch run, no stall.
+#  7. a live stage that hangs: galvo_servo stopped (SIGSTOP) mid-job with hang_timeout_s:=5: its
+#     XML-RPC port accepts and never answers (not gone), so the job is abandoned only after
+#     hang_timeout_s, with an error naming it; incomplete result, exit 1.
 # Registered with CTest (see CMakeLists.txt); needs the built package on the environment.
 # Usage: graph_faults.sh [scanhead_run] ; SCANHEAD_FAULT_RUNS=N (case 2), SCANHEAD_FAULT_CASES="1 3"
 # (a subset), SCANHEAD_ROS_PORT=P (the master's port).
@@ -66,7 +73,7 @@ node_pid() {  # node name: its process id, as the node tells the master
   rosnode info "$1" 2> /dev/null | sed -n 's/^Pid: //p'
 }
 now() { date +%s.%N; }
-want() { [[ " ${SCANHEAD_FAULT_CASES:-1 2 3 4 5} " == *" $1 "* ]]; }
+want() { [[ " ${SCANHEAD_FAULT_CASES:-1 2 3 4 5 6 7} " == *" $1 "* ]]; }
 job="corner:speed=2,angle=90"
 "$run" --job "$job" --out "$tmp/batch" --quiet
 elapsed() { awk -v a="$(now)" -v b="$1" 'BEGIN { printf "%.1f", a - b }'; }
@@ -239,5 +246,57 @@ if want 5; then
   [ ! -e "$tmp/ghost" ] || fail "missing consumer: a results folder was written"
   echo "missing consumer: the NC named it after 2 s, the launch ended after $took s with no results folder:" \
     "$(grep -o "nc: job 1 abandoned: .*" "$tmp/ghost.log" | sed 's/\x1b\[0m//')"
+fi
+# ---- 6. a slow stage downstream: alive, so no stall -------------------------------------------
+stopped_pid=""  # a process this script stopped (SIGSTOP): continued on exit
+trap '[ -z "$stopped_pid" ] || kill -CONT "$stopped_pid" 2> /dev/null || true; cleanup' EXIT
+pause_mid_job() {  # node seconds log dir extra-args...: SIGSTOP the node mid-job for that long (0: until the energy node stalls)
+  local node=$1 pause=$2 log=$3 dir=$4
+  shift 4
+  roslaunch "$launch_dir/virtual_machine.launch" job:="$job_long" out:="$dir" nodelets:=false "$@" > "$log" 2>&1 &
+  local launch_pid=$!
+  started $launch_pid
+  wait_for 90 acked || { cat "$log"; fail "pause $node: the job never started"; }
+  stopped_pid=$(node_pid "$node")
+  [ -n "$stopped_pid" ] || fail "pause $node: no pid"
+  kill -STOP "$stopped_pid"
+  t0=$(now)
+  if [ "$pause" = 0 ]; then
+    wait_for 60 grep -q "energy: job 1 stalled" "$log" || { kill -CONT "$stopped_pid"; cat "$log"; fail "pause $node: no stall"; }
+  else
+    sleep "$pause"
+  fi
+  stop_took=$(elapsed "$t0")
+  kill -CONT "$stopped_pid"
+  stopped_pid=""
+  wait_exit 120 $launch_pid || { cat "$log"; fail "pause $node: the launch did not end"; }
+  took=$(elapsed "$t0")
+}
+if want 6; then
+  "$run" --job "$job_long" --out "$tmp/batch_long" --quiet
+  pause_mid_job /energy_accumulator 12 "$tmp/slow.log" "$tmp/slow"
+  grep -q "job 1 stalled\|job 1 abandoned" "$tmp/slow.log" && { cat "$tmp/slow.log"; fail "slow stage: a live graph was declared stalled"; }
+  grep -q "alive but silent for .*a slower stage downstream holds the flow" "$tmp/slow.log" ||
+    { cat "$tmp/slow.log"; fail "slow stage: no warning that a stage waited on a live upstream"; }
+  grep -q "nc: job 1: no energy/ack .*a slow stage holds the flow" "$tmp/slow.log" ||
+    { cat "$tmp/slow.log"; fail "slow stage: the NC did not warn about its full window"; }
+  [ -f "$tmp/slow/metrics.yaml" ] || { cat "$tmp/slow.log"; fail "slow stage: no results folder"; }
+  cmp "$tmp/batch_long/metrics.yaml" "$tmp/slow/metrics.yaml" ||
+    { diff "$tmp/batch_long/metrics.yaml" "$tmp/slow/metrics.yaml" || true; fail "slow stage: metrics differ from the batch run"; }
+  echo "slow stage: energy_accumulator stopped 12 s mid-job; $(grep -c "alive but silent" "$tmp/slow.log") stage" \
+    "warning(s), the NC's full-window warning, no stall; the job completed identical to batch" \
+    "(launch ended $took s after the stop)"
+fi
+
+# ---- 7. a live stage that hangs: bounded by hang_timeout_s -------------------------------------
+if want 7; then
+  pause_mid_job /galvo_servo 0 "$tmp/hang.log" "$tmp/hang" hang_timeout_s:=5
+  grep -q "energy: job 1 stalled: .*hung: .*/galvo_servo not answering but silent for more than ~hang_timeout_s" \
+    "$tmp/hang.log" || { cat "$tmp/hang.log"; fail "hang: the stall does not name the hung /galvo_servo"; }
+  grep -q "^complete: false$" "$tmp/hang/metrics.yaml" || fail "hang: metrics.yaml does not say complete: false"
+  grep -q "exit code 1, cmd [^ ]*/energy_accumulator " "$tmp/hang.log" || { cat "$tmp/hang.log"; fail "hang: the energy node did not exit 1"; }
+  awk -v t="$stop_took" 'BEGIN { exit !(t >= 5 && t < 15) }' || fail "hang: stalled $stop_took s after the stop (hang_timeout_s 5)"
+  echo "hung stage: galvo_servo stopped mid-job, hang_timeout_s 5: the energy node stalled $stop_took s after" \
+    "the stop naming it; launch ended $took s after the stop; $(grep -o "hung: [^;]*" "$tmp/hang.log" | head -1)"
 fi
 echo "graph faults: all cases passed"

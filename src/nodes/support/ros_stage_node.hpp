@@ -13,10 +13,17 @@
 /// its input topics), which is what the producers wait for (ros_chunk_outlet.hpp); on destruction
 /// it says it went away. It watches for a stalled stream: a job open with no chunk run for
 /// `~stall_timeout_s` (default the global `stall_timeout_s`, else 3 s; 0: never), or chunks whose
-/// job could not start for that long (its cam/job or nc/plan never came). A stall is logged with
-/// what was seen of each input, the job is abandoned (its later chunks are dropped as late, the
-/// next job starts clean) and the node's `stalled` hook is called (the energy node writes what it
-/// has as an incomplete result).
+/// job could not start for that long (its cam/job or nc/plan never came). Silence alone is not a
+/// stall: the streams are paced by the last stage's acknowledgements, so a stage that is slow
+/// downstream (the energy node finishing a big job) silences every input upstream of it. After
+/// `~stall_timeout_s` of silence the nodes publishing the silent inputs, and the stages upstream
+/// of them, are pinged (ros_liveness.hpp; at most once a second, in the stall timer, never in a
+/// chunk callback): if one is gone it is a stall, named; if all are alive a warning is logged
+/// once and the job waits, until `~hang_timeout_s` (default the global `hang_timeout_s`, else
+/// 60 s; 0: never) of silence makes it a stall too (a live stage that hangs). A stall is logged
+/// with what was seen of each input and why, the job is abandoned (its later chunks are dropped
+/// as late, the next job starts clean) and the node's `stalled` hook is called (the energy node
+/// writes what it has as an incomplete result).
 #pragma once
 
 #include <ros/ros.h>
@@ -24,6 +31,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <memory>
@@ -34,6 +42,7 @@
 #include <utility>
 
 #include "ros_chunk_outlet.hpp"
+#include "ros_liveness.hpp"
 #include "scanhead/common/stage_driver.hpp"
 
 namespace scanhead
@@ -45,7 +54,7 @@ struct StreamStall
   std::uint64_t next_sample = 0;    ///< the first sample that never came
   std::uint64_t total_samples = 0;  ///< samples the job has
   double waited_s = 0.0;            ///< seconds without a chunk
-  std::string streams;              ///< the inputs that stopped, with the last sample seen on each
+  std::string streams;              ///< the inputs that stopped, with the last sample seen on each, and why
 };
 
 template <class StageT, class... InMsgs>
@@ -88,9 +97,9 @@ public:
     , name_(std::move(name))
     , driver_(stage, driverHooks())
   {
-    double fallback = 3.0;
-    nh.param("stall_timeout_s", fallback, fallback);
-    private_nh.param("stall_timeout_s", stall_timeout_s_, fallback);
+    stall_timeout_s_ = timeoutParam(nh, private_nh, "stall_timeout_s", 3.0);
+    hang_timeout_s_ = timeoutParam(nh, private_nh, "hang_timeout_s", 60.0);
+    upstream_ = std::make_unique<UpstreamWatch>(nh);
     subscribeAll(nh, topics, std::index_sequence_for<InMsgs...>());
     // After subscribing: from now on this node gets every chunk published on its topics.
     std::vector<std::string> resolved;
@@ -166,13 +175,16 @@ private:
   void checkStall()
   {
     const ros::WallTime now = ros::WallTime::now();
-    if (driver_.running() && (now - last_progress_).toSec() > stall_timeout_s_)
+    const double silent_s = (now - last_progress_).toSec();
+    if (driver_.running() && silent_s > stall_timeout_s_ && (now - last_ping_).toSec() >= kPingEvery_s)
     {
+      last_ping_ = now;
       StreamStall stall;
       stall.job_id = driver_.jobId();
       stall.next_sample = driver_.sequence().next();
       stall.total_samples = total_samples_;
-      stall.waited_s = (now - last_progress_).toSec();
+      stall.waited_s = silent_s;
+      std::vector<std::string> silent;
       for (std::size_t i = 0; i < kInputs; ++i)
       {
         const bool this_job = seen_job_[i] == stall.job_id;
@@ -182,17 +194,52 @@ private:
         if (!stall.streams.empty())
           stall.streams += ", ";
         stall.streams += subscribers_[i].getTopic() + " (last chunk ended at sample " + std::to_string(end) + ")";
+        silent.push_back(subscribers_[i].getTopic());
       }
-      ROS_ERROR(
-          "%s: job %u stalled: no chunk for %.1f s (~stall_timeout_s %.1f); sample %llu of %llu never came "
-          "from %s; the job is abandoned",
-          name_.c_str(), stall.job_id, stall.waited_s, stall_timeout_s_,
-          static_cast<unsigned long long>(stall.next_sample), static_cast<unsigned long long>(stall.total_samples),
-          stall.streams.c_str());
-      if (binding_.stalled)
-        binding_.stalled(stall);
-      driver_.abandon();
-      dropJob(stall.job_id);
+      if (silent.empty())  // every input got ahead of the chunk that never ran: ask about them all
+        for (const ros::Subscriber& s : subscribers_)
+          silent.push_back(s.getTopic());
+      // Off the hot path: only after stall_timeout_s of silence, at most every kPingEvery_s.
+      const UpstreamLiveness live = upstream_->check(silent, kPingTimeout_s);
+      std::string why;
+      if (live.anyDead())
+        why = "upstream gone: " + UpstreamLiveness::join(live.dead);
+      else if (hang_timeout_s_ > 0.0 && silent_s > hang_timeout_s_)
+        why = "hung: " + UpstreamLiveness::join(live.unanswered.empty() ? live.alive : live.unanswered) +
+              (live.unanswered.empty() ? " alive" : " not answering") + " but silent for more than ~hang_timeout_s " +
+              seconds(hang_timeout_s_);
+      if (why.empty())
+      {
+        if (!waiting_warned_ && live.unanswered.empty())
+          ROS_WARN(
+              "%s: job %u waiting for %s: %s alive but silent for %.1f s; a slower stage downstream holds the flow "
+              "(a stall after ~hang_timeout_s %.1f s)",
+              name_.c_str(), stall.job_id, UpstreamLiveness::join(silent).c_str(),
+              UpstreamLiveness::join(live.alive).c_str(), silent_s, hang_timeout_s_);
+        else if (!waiting_warned_)
+          ROS_WARN(
+              "%s: job %u waiting for %s, silent for %.1f s: %s not answering (stopped or busy), %s alive (a stall "
+              "after ~hang_timeout_s %.1f s)",
+              name_.c_str(), stall.job_id, UpstreamLiveness::join(silent).c_str(), silent_s,
+              UpstreamLiveness::join(live.unanswered).c_str(), UpstreamLiveness::join(live.alive).c_str(),
+              hang_timeout_s_);
+        waiting_warned_ = true;
+      }
+      else
+      {
+        stall.streams += "; " + why;
+        ROS_ERROR(
+            "%s: job %u stalled: no chunk for %.1f s (~stall_timeout_s %.1f); sample %llu of %llu never came "
+            "from %s; the job is abandoned",
+            name_.c_str(), stall.job_id, stall.waited_s, stall_timeout_s_,
+            static_cast<unsigned long long>(stall.next_sample), static_cast<unsigned long long>(stall.total_samples),
+            stall.streams.c_str());
+        if (binding_.stalled)
+          binding_.stalled(stall);
+        driver_.abandon();
+        dropJob(stall.job_id);
+        waiting_warned_ = false;
+      }
     }
     for (auto it = waiting_since_.begin(); it != waiting_since_.end();)
     {
@@ -245,6 +292,11 @@ private:
         if (verdict == ChunkVerdict::Run)
         {
           last_progress_ = ros::WallTime::now();
+          if (waiting_warned_)
+          {
+            ROS_INFO("%s: job %u resumed", name_.c_str(), header.job_id);
+            waiting_warned_ = false;
+          }
           total_samples_ = header.total_samples;
           current_ = std::get<0>(messages);
           driver_.run(chunk, [&](StageT& stage) { return binding_.process(stage, messages); });
@@ -286,7 +338,18 @@ private:
   std::map<Key, Messages> pending_;
   std::map<std::uint32_t, ros::WallTime> waiting_since_;  ///< jobs whose chunks wait for their job to start
   std::unique_ptr<ReadyAnnouncer> announcer_;             ///< after subscribers_: withdrawn before they go
-  double stall_timeout_s_ = 3.0;
+  static constexpr double kPingEvery_s = 1.0;             ///< liveness checks while a job is silent
+  static constexpr double kPingTimeout_s = 0.5;           ///< per node: a stopped process never answers
+  static std::string seconds(double s)
+  {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.1f s", s);
+    return text;
+  }
+  double stall_timeout_s_ = 3.0, hang_timeout_s_ = 60.0;
+  std::unique_ptr<UpstreamWatch> upstream_;  ///< who publishes the inputs, and are they alive
+  bool waiting_warned_ = false;              ///< the running job's silence was reported (alive upstream)
+  ros::WallTime last_ping_;                  ///< the last liveness check
   ros::WallTimer stall_timer_;
   ros::WallTime last_progress_;                    ///< when the running job last ran a chunk
   std::uint64_t total_samples_ = 0;                ///< of the running job
