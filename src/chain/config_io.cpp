@@ -11,6 +11,7 @@
 #include "scanhead/common/config_check.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/common/yaml_document.hpp"
 
 namespace scanhead
 {
@@ -253,7 +254,10 @@ void flattenNode(const YAML::Node& node, const std::string& prefix, const std::s
   const std::string where = source + ":" + std::to_string(node.Mark().line + 1);
   if (node.IsScalar())
   {
-    out[prefix] = ConfigValue{node.Scalar(), where};
+    // "nc: {period_s: 1}" and "nc.period_s: 2" are one setting given twice (YAML sees two keys).
+    const auto [it, fresh] = out.emplace(prefix, ConfigValue{node.Scalar(), where});
+    if (!fresh)
+      throw InputError(where + ": " + prefix + " is given twice (first at " + it->second.where + ")");
     return;
   }
   if (node.IsNull())
@@ -263,7 +267,10 @@ void flattenNode(const YAML::Node& node, const std::string& prefix, const std::s
                      " must be a map of settings, not a list");
   for (const auto& item : node)
   {
-    const std::string key = item.first.as<std::string>();
+    if (!item.first.IsScalar())  // "? [a, b]: 1" or "~: 1" (found by fuzz_config: escaped as YAML::Exception)
+      throw InputError(source + ":" + std::to_string(item.first.Mark().line + 1) + ": " +
+                       (prefix.empty() ? std::string("a top-level key") : "a key under " + prefix) + " is not a name");
+    const std::string key = item.first.Scalar();
     flattenNode(item.second, prefix.empty() ? key : prefix + "." + key, source, out);
   }
 }
@@ -310,15 +317,7 @@ std::vector<std::string> knownConfigKeys()
 
 FlatConfig flattenYaml(const std::string& yaml_text, const std::string& source)
 {
-  YAML::Node root;
-  try
-  {
-    root = YAML::Load(yaml_text);
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
-  }
+  const YAML::Node root = parseYamlDocument(yaml_text, source, yamlSettingsLimits("a config file"));
   FlatConfig flat;
   flattenNode(root, "", source, flat);
   return flat;
@@ -363,12 +362,7 @@ ChainConfig loadChainConfig(const std::string& path, const std::vector<std::stri
   FlatConfig flat;
   if (!path.empty())
   {
-    std::ifstream in(path);
-    if (!in)
-      throw InputError(path + ": cannot open the config file");
-    std::stringstream text;
-    text << in.rdbuf();
-    flat = flattenYaml(text.str(), path);
+    flat = flattenYaml(readYamlText(path, yamlSettingsLimits("a config file", "the config file")), path);
   }
   for (const auto& assignment : overrides)
     applyOverride(flat, assignment);

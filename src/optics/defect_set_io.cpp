@@ -11,6 +11,7 @@
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/common/yaml_document.hpp"
 
 namespace scanhead
 {
@@ -66,20 +67,12 @@ std::string fileStem(const std::string& path)
 
 DefectSet loadDefectSet(const std::string& path)
 {
-  std::ifstream in(path);
-  if (!in)
-    throw InputError(path + ": cannot open the defect set file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  YAML::Node root;
-  try
-  {
-    root = YAML::Load(text.str());
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
-  }
+  return parseDefectSet(readYamlText(path, yamlSettingsLimits("a defect set file", "the defect set file")), path);
+}
+
+DefectSet parseDefectSet(const std::string& text, const std::string& path)
+{
+  const YAML::Node root = parseYamlDocument(text, path, yamlSettingsLimits("a defect set file"));
 
   DefectSet set;
   set.name = fileStem(path);
