@@ -246,7 +246,7 @@ std::string formatValue(bool v)
 }
 std::string formatValue(const std::string& v)
 {
-  return "\"" + v + "\"";
+  return yamlDoubleQuoted(v);  // escaped (found by fuzz_config: a quote or newline broke the round trip)
 }
 
 void flattenNode(const YAML::Node& node, const std::string& prefix, const std::string& source, FlatConfig& out)

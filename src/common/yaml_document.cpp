@@ -4,6 +4,7 @@
 
 #include <sys/stat.h>
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -170,6 +171,26 @@ std::string readYamlText(const std::string& path, const YamlLimits& limits)
   if (in.bad())
     throw InputError(path + ": read error");
   return text;
+}
+
+std::string yamlDoubleQuoted(const std::string& text)
+{
+  std::string out = "\"";
+  for (const char c : text)
+  {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\')
+      out += std::string("\\") + c;
+    else if (u < 0x20 || u == 0x7f)
+    {
+      char hex[5];
+      std::snprintf(hex, sizeof hex, "\\x%02x", u);
+      out += hex;
+    }
+    else
+      out += c;
+  }
+  return out + "\"";
 }
 
 YAML::Node parseYamlDocument(const std::string& text, const std::string& source, const YamlLimits& limits)

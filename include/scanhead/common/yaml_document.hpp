@@ -57,4 +57,8 @@ std::string readYamlText(const std::string& path, const YamlLimits& limits);
 /// \throws InputError "<source>:<line>:<column>: …" for malformed YAML, a duplicate key, too deep a
 /// nesting or aliases expanding past the budget; "<source>: N bytes is more than …" for the size.
 YAML::Node parseYamlDocument(const std::string& text, const std::string& source, const YamlLimits& limits);
+
+/// \brief \p text as a YAML double-quoted scalar, quotes included: backslash, quote and control
+/// characters escaped, everything else as is (so ordinary names and paths are written unchanged).
+std::string yamlDoubleQuoted(const std::string& text);
 }  // namespace scanhead

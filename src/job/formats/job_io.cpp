@@ -110,28 +110,6 @@ Polyline parsePolyline(const YAML::Node& node, const std::string& source, const 
   return line;
 }
 
-/// \p text escaped for a YAML double-quoted scalar (unchanged when it has no quote, backslash or
-/// control character, so ordinary names are written as before).
-std::string doubleQuoted(const std::string& text)
-{
-  std::string out;
-  for (const char c : text)
-  {
-    const unsigned char u = static_cast<unsigned char>(c);
-    if (c == '"' || c == '\\')
-      out += std::string("\\") + c;
-    else if (u < 0x20 || u == 0x7f)
-    {
-      char hex[5];
-      std::snprintf(hex, sizeof hex, "\\x%02x", u);
-      out += hex;
-    }
-    else
-      out += c;
-  }
-  return out;
-}
-
 std::string fieldOf(std::size_t polyline)
 {
   return "polylines[" + std::to_string(polyline) + "]";
@@ -213,7 +191,7 @@ void validateScanJob(const Job& job, double field_half_width_m)
 std::string scanJobToYaml(const Job& job)
 {
   std::ostringstream out;
-  out << "name: \"" << doubleQuoted(job.name) << "\"\npolylines:\n";
+  out << "name: " << yamlDoubleQuoted(job.name) << "\npolylines:\n";
   for (const Polyline& line : job.polylines)
   {
     out << "  - type: " << (line.type == PolylineType::Mark ? "mark" : "jump") << "\n";
