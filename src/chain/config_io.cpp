@@ -308,10 +308,15 @@ std::vector<std::string> differingSettings(const std::string& yaml_a, const std:
 
 std::vector<std::string> knownConfigKeys()
 {
-  std::vector<std::string> keys;
-  ChainConfig c;
-  visitSettings(c, [&](const char* key, auto&) { keys.emplace_back(key); });
-  std::sort(keys.begin(), keys.end());
+  // Built once: every --set and every unknown key looked the sorted list up (rebuilt and re-sorted
+  // each time, the largest cost of reading a config under fuzz_config).
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> list;
+    ChainConfig c;
+    visitSettings(c, [&](const char* key, auto&) { list.emplace_back(key); });
+    std::sort(list.begin(), list.end());
+    return list;
+  }();
   return keys;
 }
 
