@@ -11,6 +11,7 @@
 #include "scanhead/common/config_check.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/common/yaml_document.hpp"
 
 namespace scanhead
 {
@@ -249,7 +250,7 @@ std::string formatValue(bool v)
 }
 std::string formatValue(const std::string& v)
 {
-  return "\"" + v + "\"";
+  return yamlDoubleQuoted(v);  // escaped (found by fuzz_config: a quote or newline broke the round trip)
 }
 
 void flattenNode(const YAML::Node& node, const std::string& prefix, const std::string& source, FlatConfig& out)
@@ -257,7 +258,10 @@ void flattenNode(const YAML::Node& node, const std::string& prefix, const std::s
   const std::string where = source + ":" + std::to_string(node.Mark().line + 1);
   if (node.IsScalar())
   {
-    out[prefix] = ConfigValue{node.Scalar(), where};
+    // "nc: {period_s: 1}" and "nc.period_s: 2" are one setting given twice (YAML sees two keys).
+    const auto [it, fresh] = out.emplace(prefix, ConfigValue{node.Scalar(), where});
+    if (!fresh)
+      throw InputError(where + ": " + prefix + " is given twice (first at " + it->second.where + ")");
     return;
   }
   if (node.IsNull())
@@ -267,7 +271,10 @@ void flattenNode(const YAML::Node& node, const std::string& prefix, const std::s
                      " must be a map of settings, not a list");
   for (const auto& item : node)
   {
-    const std::string key = item.first.as<std::string>();
+    if (!item.first.IsScalar())  // "? [a, b]: 1" or "~: 1" (found by fuzz_config: escaped as YAML::Exception)
+      throw InputError(source + ":" + std::to_string(item.first.Mark().line + 1) + ": " +
+                       (prefix.empty() ? std::string("a top-level key") : "a key under " + prefix) + " is not a name");
+    const std::string key = item.first.Scalar();
     flattenNode(item.second, prefix.empty() ? key : prefix + "." + key, source, out);
   }
 }
@@ -305,24 +312,21 @@ std::vector<std::string> differingSettings(const std::string& yaml_a, const std:
 
 std::vector<std::string> knownConfigKeys()
 {
-  std::vector<std::string> keys;
-  ChainConfig c;
-  visitSettings(c, [&](const char* key, auto&) { keys.emplace_back(key); });
-  std::sort(keys.begin(), keys.end());
+  // Built once: every --set and every unknown key looked the sorted list up (rebuilt and re-sorted
+  // each time, the largest cost of reading a config under fuzz_config).
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> list;
+    ChainConfig c;
+    visitSettings(c, [&](const char* key, auto&) { list.emplace_back(key); });
+    std::sort(list.begin(), list.end());
+    return list;
+  }();
   return keys;
 }
 
 FlatConfig flattenYaml(const std::string& yaml_text, const std::string& source)
 {
-  YAML::Node root;
-  try
-  {
-    root = YAML::Load(yaml_text);
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
-  }
+  const YAML::Node root = parseYamlDocument(yaml_text, source, yamlSettingsLimits("a config file"));
   FlatConfig flat;
   flattenNode(root, "", source, flat);
   return flat;
@@ -367,12 +371,7 @@ ChainConfig loadChainConfig(const std::string& path, const std::vector<std::stri
   FlatConfig flat;
   if (!path.empty())
   {
-    std::ifstream in(path);
-    if (!in)
-      throw InputError(path + ": cannot open the config file");
-    std::stringstream text;
-    text << in.rdbuf();
-    flat = flattenYaml(text.str(), path);
+    flat = flattenYaml(readYamlText(path, yamlSettingsLimits("a config file", "the config file")), path);
   }
   for (const auto& assignment : overrides)
     applyOverride(flat, assignment);

@@ -11,6 +11,7 @@
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/common/yaml_document.hpp"
 
 namespace scanhead
 {
@@ -64,18 +65,11 @@ YAML::Node load(const std::string& path)
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw InputError(path + ": cannot read (give a results folder or its metrics.yaml)");
+  const YamlLimits limits = yamlMetricsLimits();
   std::string head, line;
-  while (std::getline(in, line) && line.rfind("corners:", 0) != 0)
+  while (std::getline(in, line) && line.rfind("corners:", 0) != 0 && head.size() <= limits.max_bytes)
     head += line + "\n";
-  YAML::Node root;
-  try
-  {
-    root = YAML::Load(head);
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw InputError(path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+  const YAML::Node root = parseYamlDocument(head, path, limits);  // refuses a head past the limit
   if (!root.IsMap() || !root["job"] || !root["samples"])
     throw InputError(path + ": not a scanhead metrics.yaml (no job/samples)");
   return root;

@@ -26,6 +26,13 @@ constexpr int kColumnCount = 10;
 /// Upper bound on nodes per axis (n² nodes of 64 bytes each: 2049² ≈ 270 MB).
 constexpr int kMaxNodes = 2049;
 
+/// Shortest node line of a table file: 10 one-character fields, 9 separators and the newline.
+constexpr int kMinNodeLineBytes = 20;
+
+/// Largest half field of a table file [m]: a ±1 m field is beyond any galvo scan head (the shipped
+/// config's is ±175 mm); larger values are a corrupt file.
+constexpr double kMaxHalfWidth_m = 1.0;
+
 /// Points this far outside [−h, h]² [m] are still accepted (rounding of computed edge points);
 /// they are evaluated on the border cell's patch.
 constexpr double kEdgeTolerance_m = 1e-9;
@@ -342,9 +349,23 @@ void CorrectionTable::save(const std::string& path) const
 
 CorrectionTable CorrectionTable::load(const std::string& path)
 {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in)
     throw InputError(path + ": cannot open the correction table");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  return read(in, size > 0 ? static_cast<std::uint64_t>(size) : 0, path);
+}
+
+CorrectionTable CorrectionTable::parse(const std::string& text, const std::string& source)
+{
+  std::istringstream in(text);
+  return read(in, text.size(), source);
+}
+
+CorrectionTable CorrectionTable::read(std::istream& in, std::uint64_t bytes, const std::string& path)
+{
   int line_number = 0;
   auto fail = [&](const std::string& what) -> InputError {
     return InputError(path + ":" + std::to_string(line_number) + ": " + what);
@@ -422,12 +443,19 @@ CorrectionTable CorrectionTable::load(const std::string& path)
         if (value != std::floor(value) || value < 2 || value > kMaxNodes)
           throw fail("nodes must be an integer in [2, " + std::to_string(kMaxNodes) + "] (got " + tokens[1] + ")");
         nodes = static_cast<int>(value);
+        // Checked before the n² nodes are allocated: a node line has 10 fields, >= 20 bytes.
+        const std::uint64_t need = static_cast<std::uint64_t>(nodes) * static_cast<std::uint64_t>(nodes) *
+                                   static_cast<std::uint64_t>(kMinNodeLineBytes);
+        if (need > bytes)
+          throw fail("nodes " + tokens[1] + " needs " + std::to_string(nodes) + "² node lines (>= " +
+                     std::to_string(need) + " bytes) but the file has " + std::to_string(bytes) + " bytes");
         have_nodes = true;
       }
       else
       {
-        if (!(value > 0.0))
-          throw fail("half_width_m must be > 0 (got " + tokens[1] + ")");
+        if (!(value > 0.0) || !(value <= kMaxHalfWidth_m))
+          throw fail("half_width_m must be in (0, " + fullPrecisionText(kMaxHalfWidth_m) +
+                     "] m (the table's half field; got " + tokens[1] + ")");
         half_width_m = value;
         have_half_width = true;
       }

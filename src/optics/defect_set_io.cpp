@@ -11,6 +11,7 @@
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/common/yaml_document.hpp"
 
 namespace scanhead
 {
@@ -50,6 +51,34 @@ std::size_t componentIndex(std::size_t element, const std::string& component)
   return kDefectCount;
 }
 
+/// Whether \p text is valid UTF-8 without control characters (U+0000–U+001F, U+007F).
+bool printableUtf8(const std::string& text)
+{
+  for (std::size_t i = 0; i < text.size();)
+  {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c < 0x80)
+    {
+      if (c < 0x20 || c == 0x7f)
+        return false;
+      ++i;
+      continue;
+    }
+    // Lead byte: 2, 3 or 4 bytes; no overlong forms (C0, C1, E0 < A0, F0 < 90), nothing past U+10FFFF.
+    const std::size_t n = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+    if (n == 0 || i + n > text.size())
+      return false;
+    const unsigned char c1 = static_cast<unsigned char>(text[i + 1]);
+    if ((c == 0xE0 && c1 < 0xA0) || (c == 0xED && c1 > 0x9F) || (c == 0xF0 && c1 < 0x90) || (c == 0xF4 && c1 > 0x8F))
+      return false;
+    for (std::size_t k = 1; k < n; ++k)
+      if ((static_cast<unsigned char>(text[i + k]) & 0xC0) != 0x80)
+        return false;
+    i += n;
+  }
+  return true;
+}
+
 std::string where(const std::string& path, const YAML::Node& node)
 {
   return path + ":" + std::to_string(node.Mark().line + 1);
@@ -66,20 +95,12 @@ std::string fileStem(const std::string& path)
 
 DefectSet loadDefectSet(const std::string& path)
 {
-  std::ifstream in(path);
-  if (!in)
-    throw InputError(path + ": cannot open the defect set file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  YAML::Node root;
-  try
-  {
-    root = YAML::Load(text.str());
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
-  }
+  return parseDefectSet(readYamlText(path, yamlSettingsLimits("a defect set file", "the defect set file")), path);
+}
+
+DefectSet parseDefectSet(const std::string& text, const std::string& path)
+{
+  const YAML::Node root = parseYamlDocument(text, path, yamlSettingsLimits("a defect set file"));
 
   DefectSet set;
   set.name = fileStem(path);
@@ -102,6 +123,11 @@ DefectSet loadDefectSet(const std::string& path)
     {
       if (!entry.second.IsScalar() || entry.second.Scalar().empty())
         throw InputError(where(path, entry.second) + ": name must be a non-empty string");
+      // A label for reports and file names: control characters and invalid UTF-8 (found by
+      // fuzz_defect_set: a NUL cut the written name short, stray bytes were re-encoded) are refused.
+      if (!printableUtf8(entry.second.Scalar()))
+        throw InputError(where(path, entry.second) +
+                         ": name must be printable UTF-8 text (it has a control character or an invalid byte)");
       set.name = entry.second.Scalar();
       continue;
     }
@@ -152,7 +178,7 @@ std::string defectSetToYaml(const DefectSet& set)
       "# scanhead defect set (docs/defects.md): positions in mm (x, y, z), orientations in mrad (a, b, c about x, y, "
       "z)\n"
       "name: " +
-      std::string(name.c_str()) + "\n";
+      std::string(name.c_str(), name.size()) + "\n";
   for (std::size_t element = 0; element < kElementCount; ++element)
   {
     std::string line = std::string(defectElements()[element]) + ":";

@@ -16,8 +16,11 @@
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/chain/energy_sink_stage.hpp"
 #include "scanhead/job/formats/job_io.hpp"
+#include "scanhead/job/generators/scan_generators.hpp"
+#include "scanhead/job/generators/shape.hpp"
 #include "scanhead/job/job_files.hpp"
 #include "scanhead/optics/correction_table.hpp"
+#include "scanhead/servo/galvo_servo.hpp"
 #include "support/command_line.hpp"
 #include "support/tool_errors.hpp"
 
@@ -282,6 +285,56 @@ void benchmarkOpticalModels(const ChainConfig& config, const OpticalModel& optic
 }
 }  // namespace
 
+/// The servo model alone (GalvoServo::process on 1000-sample chunks, 400 in a row), ns per sample and
+/// axis, best of \p repeat; and the hatch generator (100 mm square at 100 µm: 1000 lines). These were
+/// timed assertions of the test suite (GalvoServo.Throughput < 200 / 400 ns, ScanGenerators.FastEnough
+/// < 50 ms), which failed under sanitizers and on loaded machines: a figure, not a test.
+void benchmarkServoAndGenerator(int repeat)
+{
+  constexpr double kTs = 1e-5;
+  auto servo_ns = [&](const std::string& model) {
+    ServoConfig cfg;
+    cfg.model = model;
+    double best = 1e300, sink = 0.0;
+    SetpointChunk in;
+    in.period_s = kTs;
+    in.samples.resize(1000);
+    for (std::size_t k = 0; k < in.samples.size(); ++k)
+      in.samples[k].position = Eigen::Vector2d(std::sin(k * 1e-3), std::cos(k * 7e-4));
+    for (int r = 0; r < repeat; ++r)
+    {
+      GalvoServo servo(cfg, kTs);
+      servo.reset(in.samples[0].position);
+      const auto t0 = Clock::now();
+      for (int c = 0; c < 400; ++c)
+        sink += servo.process(in).samples.back().position[0];
+      best = std::min(best, seconds(Clock::now() - t0) * 1e9 / (2.0 * 400 * in.samples.size()));
+    }
+    if (!std::isfinite(sink))
+      throw NumericalError("servo benchmark: non-finite output");
+    return best;
+  };
+  const double simple = servo_ns("closed_loop_3rd_order");
+  const double cascade = servo_ns("cascade");
+  HatchStyle style;
+  style.spacing_m = 100e-6;
+  style.meander = true;
+  double hatch_s = 1e300;
+  std::size_t polylines = 0;
+  for (int r = 0; r < repeat; ++r)
+  {
+    const auto t0 = Clock::now();
+    polylines = hatch(makeRectangle(0.1, 0.1), style).polylines.size();
+    hatch_s = std::min(hatch_s, seconds(Clock::now() - t0));
+  }
+  std::printf("\nservo model alone (process(), 1000-sample chunks, best of %d)\n", repeat);
+  std::printf("%-44s %10.1f ns per sample per axis\n", "closed_loop_3rd_order", simple);
+  std::printf("%-44s %10.1f ns per sample per axis (%.2f M two-axis samples/s)\n", "cascade", cascade,
+              1e3 / (2.0 * cascade));
+  std::printf("%-44s %10.2f ms (%zu polylines, %.2f us per line)\n", "hatch generator, 100 mm at 100 um", hatch_s * 1e3,
+              polylines, hatch_s * 1e6 / 1000.0);
+}
+
 int main(int argc, char** argv)
 {
   try
@@ -339,6 +392,7 @@ int main(int argc, char** argv)
       return 0;
     benchmarkNcOptions(config_path, overrides, optics, jobs.back(), repeat);
     benchmarkOpticalModels(config, optics, repeat);
+    benchmarkServoAndGenerator(repeat);
     std::printf("\ncontour error on a synthetic hatch\n");
     benchmarkContourError(std::cout, contour_points);
     return 0;

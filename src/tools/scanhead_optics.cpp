@@ -38,6 +38,12 @@ struct Arguments
   scanhead::ConfigArguments config;
 };
 
+/// Most grid points per axis (--grid): N² spots, each a forward model, N² × 18 for influence; the
+/// calibration's least-squares fit works on 2N² residuals.
+constexpr int kMaxGrid = 201;
+/// Most probes per axis (residual --probes, as scanhead_table --probes): P² table lookups.
+constexpr int kMaxProbes = 2049;
+
 /// \brief The command and its options into \p a. \return false after --help
 bool parse(int argc, char** argv, Arguments& a)
 {
@@ -60,7 +66,7 @@ bool parse(int argc, char** argv, Arguments& a)
     command->add_option(second, a.point[1], unit)->type_name("NUMBER")->required()->transform(check::finiteNumber());
   };
   const auto grid = [&](CLI::App* command, const char* help) {
-    command->add_option("--grid", a.grid, help)->type_name("N")->transform(check::integerAtLeast(2));
+    command->add_option("--grid", a.grid, help)->type_name("N")->transform(check::integerIn(2, kMaxGrid));
   };
   point(app.add_subcommand("trace",
                            "the spot 'x y z' [m] of the machine at mechanical angles [rad], in its\n"
@@ -80,9 +86,9 @@ bool parse(int argc, char** argv, Arguments& a)
   residual->add_option("--nodes", a.nodes, "table nodes per axis (default: nc.igt.table_nodes)")
       ->type_name("N")
       ->transform(check::integerAtLeast(2));
-  residual->add_option("--probes", a.probes, "probes per axis (default 129)")
+  residual->add_option("--probes", a.probes, "probes per axis, 2 to 2049 (default 129)")
       ->type_name("P")
-      ->transform(check::integerAtLeast(2));
+      ->transform(check::integerIn(2, kMaxProbes));
   residual->add_option("--interpolation", a.interpolation, "default: nc.igt.table_interpolation")
       ->type_name("bilinear|bicubic");
   CLI::App* influence =
@@ -90,19 +96,19 @@ bool parse(int argc, char** argv, Arguments& a)
                          "each of the 30 defects alone at 1 mm or 1 mrad: global shift at O_p and non-linear part\n"
                          "over the field (DIR/influence.yaml, DIR/influence_chart.png)");
   influence->add_option("--out", a.out, "output folder")->type_name("DIR")->required();
-  grid(influence, "field grid per axis (default 21)");
+  grid(influence, "field grid per axis (2 to 201, default 21)");
   CLI::App* field = app.add_subcommand("field",
                                        "the spot displacement the machine's defect set causes over the field\n"
                                        "(DIR/defect_field.csv, DIR/defect_field.png)");
   field->add_option("--out", a.out, "output folder")->type_name("DIR")->required();
-  grid(field, "field grid per axis (default 21)");
+  grid(field, "field grid per axis (2 to 201, default 21)");
   CLI::App* calibrate =
       app.add_subcommand("calibrate",
                          "measure the machine's spots on an N x N grid of angles, estimate its defects from the\n"
                          "nominal model, and report (YAML) the estimate, the identifiable combinations and the\n"
                          "spot error over the field of the correction table before (nominal model) and after\n"
                          "(identified model); the machine is --defects, e.g. random:seed=7");
-  grid(calibrate, "angle grid per axis (default 15)");
+  grid(calibrate, "angle grid per axis (2 to 201, default 15)");
   calibrate->add_option("--noise", a.noise_m, "measurement noise [m] (default 1e-6)")
       ->type_name("M")
       ->transform(check::nonNegativeNumber());

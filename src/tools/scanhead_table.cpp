@@ -26,6 +26,9 @@ struct Arguments
   scanhead::ConfigArguments config;
 };
 
+/// Most probes per axis (--probes).
+constexpr int kMaxProbes = 2049;
+
 /// \brief The options into \p a. \return false after --help
 bool parse(int argc, char** argv, Arguments& a)
 {
@@ -47,9 +50,10 @@ bool parse(int argc, char** argv, Arguments& a)
                  "nominal | opt_table2 (OPT table 2) | random:seed=N[,mm=B][,mrad=B] | a defect set\n"
                  "file (.yaml) (default: the config's optics.defects, nominal)")
       ->type_name("SET");
-  app.add_option("--probes", a.probes, "probes per axis (default 257)")
+  // P² probes, each a table lookup and a forward model (~1 µs): 2049² ≈ 4.2 M probes, a few seconds.
+  app.add_option("--probes", a.probes, "probes per axis, 2 to 2049 (default 257)")
       ->type_name("P")
-      ->transform(scanhead::check::integerAtLeast(2));
+      ->transform(scanhead::check::integerIn(2, kMaxProbes));
   CLI::Option* save =
       app.add_option("--save", a.save, "write the built table (docs/correction_table.md)")->type_name("FILE");
   CLI::Option* load =

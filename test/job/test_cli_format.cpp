@@ -356,6 +356,22 @@ TEST(CliFormat, AbsurdUnitsAndHeaderProblems)
       std::string::npos);
   EXPECT_NE(errorOf("$$HEADERSTART\n$$ASCII\nUNITS/1\n").find("bad.cli:3: expected a header command"),
             std::string::npos);
+  // $$LAYERS is bounded by what the geometry can hold: 9 bytes per ASCII layer ("$$LAYER/0"), 4 binary,
+  // plus one.
+  const auto withLayers = [](const std::string& n, int layers) {
+    std::string text = "$$HEADERSTART\n$$ASCII\n$$UNITS/1\n$$LAYERS/" + n + "\n$$HEADEREND\n$$GEOMETRYSTART\n";
+    for (int k = 0; k < layers; ++k)
+      text += "$$LAYER/" + std::to_string(k) + "\n";
+    return text + "$$GEOMETRYEND\n";
+  };
+  EXPECT_NO_THROW(parseCli(withLayers("2", 2), "ok.cli", CliReadOptions()));
+  // "\n$$GEOMETRYSTART\n$$LAYER/0\n$$GEOMETRYEND\n": 1 + 16 + 10 + 14 = 41 bytes: at most 1 + 41 / 9 = 5.
+  EXPECT_NO_THROW(parseCli(withLayers("5", 1), "ok.cli", CliReadOptions()));
+  EXPECT_EQ(errorOf(withLayers("6", 1)),
+            "bad.cli:4: $$LAYERS/6 declares more layers than the file can hold (its 41 bytes of geometry hold at "
+            "most 5)");
+  EXPECT_NE(errorOf(withLayers("1000000000", 1)).find("bad.cli:4: $$LAYERS/1000000000 declares more layers"),
+            std::string::npos);
 }
 
 TEST(CliFormat, GeometryErrorsNameTheLine)

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/yaml_document.hpp"
 #include "scanhead/job/formats/job_io.hpp"
 #include "scanhead/job/generators/builtin_jobs.hpp"
 #include "scanhead/job/job_files.hpp"
@@ -57,6 +58,48 @@ TEST(JobIo, RoundTripIsExact)
     for (std::size_t k = 0; k < a.polylines[i].points.size(); ++k)
       EXPECT_EQ(a.polylines[i].points[k], b.polylines[i].points[k]);  // %.17g: bit-exact
   }
+}
+
+TEST(JobIo, BoundedReading)
+{
+  // Duplicate keys: the second occurrence, with its line and column (yaml-cpp kept both; the
+  // reader used to take the first).
+  EXPECT_EQ(errorOf([] {
+              parseScanJobYaml(job("{type: mark, speed: 1, power: 1, speed: 2, points: [[0,0],[1e-3,0]]}"), "f.yaml");
+            }),
+            "f.yaml:3:38: duplicate key 'polylines[0].speed' (first at line 3)");
+  // Aliases are read (a shared point list) but their expansion is bounded by the text's size.
+  const Job shared = parseScanJobYaml(
+      "name: a\npolylines:\n  - {type: mark, speed: 1, power: 1, points: &p [[0, 0], [1e-3, 0]]}\n"
+      "  - {type: jump, speed: 5, points: *p}\n",
+      "f.yaml");
+  EXPECT_EQ(shared.polylines[1].points, shared.polylines[0].points);
+  std::string bomb = "name: b\nl0: &l0 [[0, 0], [1e-3, 0]]\n";
+  for (int k = 1; k <= 8; ++k)
+  {
+    bomb += "l" + std::to_string(k) + ": &l" + std::to_string(k) + " [";
+    for (int i = 0; i < 8; ++i)
+      bomb += (i ? ", *l" : "*l") + std::to_string(k - 1);
+    bomb += "]\n";
+  }
+  EXPECT_NE(errorOf([&] { parseScanJobYaml(bomb + "polylines: *l8\n", "bomb.yaml"); }).find("YAML aliases expand"),
+            std::string::npos);
+  // A key that is not a name.
+  EXPECT_NE(errorOf([] { parseScanJobYaml("name: t\n? [a, b]\n: 1\n", "f.yaml"); }).find("a key is not a name"),
+            std::string::npos);
+  // Size: refused before parsing, with what to do instead.
+  const std::string big(yamlJobLimits().max_bytes + 1, '#');
+  const std::string message = errorOf([&] { parseScanJobYaml(big, "big.yaml"); });
+  EXPECT_EQ(message.rfind("big.yaml: 8 MiB (8388609 bytes) is more than the 8 MiB a YAML job may have", 0), 0u)
+      << message;
+  EXPECT_NE(message.find("scanhead_job convert"), std::string::npos);
+}
+
+TEST(JobIo, NamesWithQuotesRoundTrip)
+{
+  Job a = builtinJob("corner");
+  a.name = "a \"quoted\" \\ name\twith a tab";
+  EXPECT_EQ(parseScanJobYaml(scanJobToYaml(a), "round trip").name, a.name);
 }
 
 TEST(JobIo, ErrorsNameFileLineAndField)

@@ -115,6 +115,19 @@ TEST(Shape, BadPolygonFilesNameFileLineAndWhatWasExpected)
                   "t.txt:5: ring 2 (lines 5-5) has 1 distinct vertices"));
   EXPECT_TRUE(has(errorOf<InputError>([] { parsePolygonText("0 0\n1 inf\n0 1\n", "t.txt"); }),
                   "t.txt:2: y: 'inf' is not a finite number"));
+  // Crossing or touching edges, within a ring or between rings, name both edges by their lines.
+  EXPECT_EQ(errorOf<InputError>([] { parsePolygonText("0 0\n2 2\n2 0\n0 1\n", "t.txt"); }),
+            "t.txt:3: the outline crosses itself: ring 1 edge lines 1-2 and ring 1 edge lines 3-4 cross or touch "
+            "(rings must be simple and disjoint)");
+  EXPECT_TRUE(has(errorOf<InputError>([] { parsePolygonText("0 0\n4 0\n4 4\n0 4\n\n3 1\n5 1\n5 2\n", "t.txt"); }),
+                  "ring 1 edge lines 2-3 and ring 2 edge lines 6-7 cross"));
+  // A figure 8 pinched at a vertex (touching) and a spike folding back onto its edge.
+  EXPECT_TRUE(
+      has(errorOf<InputError>([] { parsePolygonText("0 0\n2 0\n1 1\n2 2\n0 2\n1 1\n", "t.txt"); }), "crosses itself"));
+  EXPECT_TRUE(has(errorOf<InputError>([] { parsePolygonText("0 0\n2 0\n1 0\n1 1\n", "t.txt"); }), "crosses itself"));
+  // Nested rings that do not touch (an island in a hole) are fine; so is a repeated closing vertex.
+  EXPECT_EQ(parsePolygonText("0 0\n9 0\n9 9\n0 9\n0 0\n\n1 1\n8 1\n8 8\n1 8\n\n4 4\n5 4\n5 5\n", "t.txt").rings.size(),
+            3u);
   // Comments after numbers, tabs and CRLF are fine.
   EXPECT_EQ(parsePolygonText("0\t0 # a\r\n1 0\r\n0 1\r\n", "t.txt").rings[0].size(), 3u);
 }

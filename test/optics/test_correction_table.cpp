@@ -239,7 +239,12 @@ TEST(CorrectionTable, LoadRejectsMalformedFiles)
       {"missing_nodes", replaceLine(4, ""), ":6:", "missing key 'nodes'"},
       {"unknown_key", replaceLine(5, "half_width 0.01"), ":5:", "unknown key 'half_width'"},
       {"bad_nodes", replaceLine(4, "nodes 2.5"), ":4:", "nodes must be an integer"},
-      {"negative_width", replaceLine(5, "half_width_m -1"), ":5:", "half_width_m must be > 0"},
+      {"negative_width", replaceLine(5, "half_width_m -1"), ":5:", "half_width_m must be in (0, 1] m"},
+      {"huge_width", replaceLine(5, "half_width_m 1e300"),
+       ":5:", "half_width_m must be in (0, 1] m (the table's half field; got 1e300)"},
+      // Checked against the file's size before n² nodes are allocated (2049² × 20 bytes ≈ 84 MB).
+      {"nodes_beyond_size", replaceLine(4, "nodes 2049"),
+       ":4:", "nodes 2049 needs 2049² node lines (>= 83968020 bytes) but the file has"},
       {"columns", replaceLine(6, "columns i j q_x q_y"), ":6:", "columns must be"},
       {"non_numeric", replaceLine(8, "1 0 0.1 abc" + tail7.substr(tail7.find(' ', tail7.find(' ', 1) + 1))),
        ":8:", "is not a number ('abc')"},
@@ -268,9 +273,11 @@ TEST(CorrectionTable, LoadRejectsMalformedFiles)
     std::filesystem::remove(path);
   }
   EXPECT_THROW(CorrectionTable::load(tempPath("does_not_exist.txt")), InputError);
-  // The untouched text loads (the cases above fail for their own reason only).
+  // The untouched text loads (the cases above fail for their own reason only), from a file or text.
   writeFile(good_path, good);
   EXPECT_EQ(CorrectionTable::load(good_path).nodes(), 2);
+  EXPECT_EQ(CorrectionTable::parse(good, "text").nodes(), 2);
+  EXPECT_THROW(CorrectionTable::parse(replaceLine(4, "nodes 3"), "text"), InputError);
   std::filesystem::remove(good_path);
 }
 

@@ -379,6 +379,10 @@ TEST(OpticalDefects, YamlRoundTripIsExact)
     EXPECT_TRUE(sameBits(back, set)) << set.name << "\n" << defectSetToYaml(set);
     std::filesystem::remove(path);
   }
+  // Names with quotes, colons and non-ASCII text round-trip (parseDefectSet reads the text itself).
+  DefectSet named = randomDefectSet(3);
+  named.name = "Prüfstand 2: 'B' \"left\" # 1";
+  EXPECT_EQ(parseDefectSet(defectSetToYaml(named), "text.yaml").name, named.name);
   // All 30 entries are written, in the file format of the issue.
   const std::string text = defectSetToYaml(optTable2DefectSet());
   EXPECT_NE(text.find("\nmirror_x:   {z: -0.025, a: -0.062, b: 0.029}\n"), std::string::npos) << text;
@@ -431,6 +435,17 @@ TEST(OpticalDefects, LoadErrorsNameFileLineAndKey)
       {"duplicate", "axis_x: {a: 1}\naxis_x: {b: 1}\n", {":2:", "duplicate key 'axis_x'"}},
       {"duplicate_component", "axis_x: {a: 1, a: 2}\n", {":1:", "duplicate key 'axis_x.a'"}},
       {"name", "name: [a]\n", {":1:", "name must be a non-empty string"}},
+      // Found by fuzz_defect_set: names that did not survive defectSetToYaml.
+      {"name_nul", "name: \"a\\0b\"\n", {":1:", "name must be printable UTF-8 text"}},
+      {"name_bytes",
+       "name: a\xff\xfe"
+       "b\n",
+       {":1:", "name must be printable UTF-8 text"}},
+      {"aliases",
+       "a: &a [1, 1, 1, 1, 1, 1, 1, 1]\nb: &b [*a, *a, *a, *a, *a, *a, *a, *a]\n"
+       "c: &c [*b, *b, *b, *b, *b, *b, *b, *b]\nd: &d [*c, *c, *c, *c, *c, *c, *c, *c]\n"
+       "e: [*d, *d, *d, *d, *d, *d, *d, *d]\n",
+       {":", "YAML aliases expand to more than"}},
       {"yaml", "source: {y: 0.1\nmirror_x: {z: 1}\n", {"malformed YAML"}},
   };
   for (const Case& c : cases)

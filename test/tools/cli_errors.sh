@@ -55,6 +55,18 @@ expect_error bad_thermal "thermal.cell_m must be > 0" --set thermal.enabled=true
 expect_error bad_spill "cannot create the tile spill file" --job squares:rows=1,columns=1 --set energy.tile_cache_bytes=1048576 \
   --set energy.spill_dir=/nonexistent/dir
 
+# Bounded YAML: duplicate keys (job, config, a setting given twice), aliases expanding too far.
+job dup_key '{type: mark, speed: 1, power: 1, speed: 2, points: [[0, 0], [0.001, 0]]}'
+expect_error dup_key "dup_key.yaml:3:38: duplicate key 'polylines[0].speed' (first at line 3)" --job "$tmp/dup_key.yaml"
+printf 'nc:\n  period_s: 1.0e-5\n  period_s: 2.0e-5\n' > "$tmp/dup_config.yaml"
+expect_error dup_config "dup_config.yaml:3:3: duplicate key 'nc.period_s' (first at line 2)" --config "$tmp/dup_config.yaml"
+printf 'nc: {period_s: 1.0e-5}\nnc.period_s: 2.0e-5\n' > "$tmp/twice.yaml"
+expect_error twice_config "twice.yaml:2: nc.period_s is given twice (first at" --config "$tmp/twice.yaml"
+{ echo 'name: bomb'; echo 'a0: &a0 [[0, 0], [0.001, 0]]'
+  for k in 1 2 3 4 5 6 7 8; do printf 'a%d: &a%d [*a%d, *a%d, *a%d, *a%d, *a%d, *a%d, *a%d, *a%d]\n' $k $k $((k-1)) $((k-1)) $((k-1)) $((k-1)) $((k-1)) $((k-1)) $((k-1)) $((k-1)); done
+  echo 'polylines: [{type: mark, speed: 1, power: 1, points: *a8}]'; } > "$tmp/bomb.yaml"
+expect_error alias_bomb "YAML aliases expand to more than" --job "$tmp/bomb.yaml"
+
 # A foreign folder is never overwritten.
 mkdir -p "$tmp/foreign" && echo data > "$tmp/foreign/keep.txt"
 out=$("$run" --out "$tmp/foreign" --quiet 2>&1); code=$?

@@ -93,6 +93,8 @@ expect_error "random:seed=N" trace --defects random:seed=x 0 0
 expect_error "missing.yaml: cannot open" trace --defects "$tmp/missing.yaml" 0 0
 expect_error "--nodes is not an option of trace" trace --nodes 9 0 0
 expect_error "--seed: must be an integer" calibrate --seed 1.5
+expect_error "--grid: must be an integer in .2, 201. (got '100000')" calibrate --grid 100000
+expect_error "--probes: must be an integer in .2, 2049. (got '1e7')" residual --probes 1e7
 expect_error "outside the galvos" trace 0.5 0
 expect_error "--interpolation must be bilinear or bicubic" residual --interpolation cubic
 expect_error "unknown argument '--bogus'" urdf --bogus

@@ -31,4 +31,10 @@ grep -q "bilinear" "$tmp/err" || { echo "FAIL: message"; cat "$tmp/err"; exit 1;
 printf '# scanhead correction table v1\nnodes 3\n' > "$tmp/bad.txt"
 if "$tool" --load "$tmp/bad.txt" 2>"$tmp/err"; then echo "FAIL: bad table accepted"; exit 1; fi
 grep -q "bad.txt" "$tmp/err" || { echo "FAIL: message does not name the file"; cat "$tmp/err"; exit 1; }
+# Bounds: --probes (work ~ P²) and a table declaring more nodes than its file can hold.
+if "$tool" --probes 1000000 2>"$tmp/err"; then echo "FAIL: --probes 1000000 accepted"; exit 1; fi
+grep -qF -- "--probes: must be an integer in [2, 2049] (got '1000000')" "$tmp/err" || { echo "FAIL: message"; cat "$tmp/err"; exit 1; }
+printf '# scanhead correction table v1\nnodes 2049\nhalf_width_m 0.1\n' > "$tmp/huge.txt"
+if "$tool" --load "$tmp/huge.txt" 2>"$tmp/err"; then echo "FAIL: 2049-node table accepted"; exit 1; fi
+grep -qF "huge.txt:2: nodes 2049 needs 2049² node lines" "$tmp/err" || { echo "FAIL: message"; cat "$tmp/err"; exit 1; }
 echo "scanhead_table: reports, save/load and errors ok"

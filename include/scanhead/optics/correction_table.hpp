@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -89,6 +91,9 @@ public:
   /// \throws InputError naming the file, the line and what is wrong
   static CorrectionTable load(const std::string& path);
 
+  /// \brief The table file format of load() from text (\p source names it in errors; the fuzz target).
+  static CorrectionTable parse(const std::string& text, const std::string& source);
+
   /// \brief Writes the table file (format on load()) atomically (temporary file + rename).
   /// \throws InputError
   void save(const std::string& path) const;
@@ -129,6 +134,8 @@ private:
 
   /// Sets n, h, the spacing and n² zero nodes.
   void setShape(int nodes, double half_width_m);
+  /// The reader of load() and parse(): \p bytes is the size of the whole text (bounds the node count).
+  static CorrectionTable read(std::istream& in, std::uint64_t bytes, const std::string& path);
   std::size_t index(int i, int j) const
   {
     return static_cast<std::size_t>(j) * static_cast<std::size_t>(nodes_) + static_cast<std::size_t>(i);

@@ -21,6 +21,10 @@ namespace scanhead
 /// \throws InputError naming the file, line and key, and listing the allowed ones
 DefectSet loadDefectSet(const std::string& path);
 
+/// \brief The defect set file format of loadDefectSet from text; \p path names it in errors and
+/// gives the default name (the fuzz target).
+DefectSet parseDefectSet(const std::string& text, const std::string& path);
+
 /// \brief The set as a defect set file: a comment line, `name:`, then one line per element with
 /// all its components, each the shortest text that reads back bit-exactly (loadDefectSet
 /// round-trips it).

@@ -84,6 +84,8 @@ Header parseHeader(const std::string& bytes, const std::string& source)
   Header h;
   bool have_format = false;
   bool have_units = false;
+  std::size_t layers_line = 0;
+  std::string layers_text;
   for (;;)
   {
     c.skipBlank();
@@ -102,6 +104,16 @@ Header parseHeader(const std::string& bytes, const std::string& source)
         offset = (offset + 3) / 4 * 4;
       h.geometry_offset = offset;
       h.geometry_line = line;
+      // A layer takes at least 4 bytes of binary geometry (command 128 + z, 16 bit) or 9 of ASCII
+      // ("$$LAYER/0"): a declared count the file cannot hold is a corrupt header, not a promise.
+      // One more is allowed, so that a file cut right after its header still reads as empty.
+      const std::size_t geometry_bytes = offset < bytes.size() ? bytes.size() - offset : 0;
+      const std::size_t max_layers = 1 + geometry_bytes / (h.binary ? 4 : 9);
+      if (h.declared_layers > 0 && static_cast<std::size_t>(h.declared_layers) > max_layers)
+        failAtLine(source, layers_line,
+                   "$$LAYERS/" + layers_text + " declares more layers than the file can hold (its " +
+                       std::to_string(geometry_bytes) + " bytes of geometry hold at most " +
+                       std::to_string(max_layers) + ")");
       return h;
     }
     const std::string_view name = c.command();
@@ -133,6 +145,8 @@ Header parseHeader(const std::string& bytes, const std::string& source)
                    "$$LAYERS: expected a layer count (integer >= 0), got '" +
                        printable(param.data(), param.data() + param.size()) + "'");
       h.declared_layers = static_cast<long>(n);
+      layers_line = line;
+      layers_text = printable(param.data(), param.data() + param.size());
     }
     else if (name == "VERSION")
       headerNumber(param, name, source, line);  // checked, not used

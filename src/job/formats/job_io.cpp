@@ -10,6 +10,7 @@
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/common/yaml_document.hpp"
 
 namespace scanhead
 {
@@ -38,7 +39,9 @@ void checkKeys(const YAML::Node& map, const std::vector<std::string>& known, con
 {
   for (const auto& item : map)
   {
-    const std::string key = item.first.as<std::string>();
+    if (!item.first.IsScalar())
+      throw InputError(at(source, item.first) + ": " + where + "a key is not a name");
+    const std::string key = item.first.Scalar();
     if (std::find(known.begin(), known.end(), key) == known.end())
     {
       std::string list;
@@ -115,15 +118,7 @@ std::string fieldOf(std::size_t polyline)
 
 Job parseScanJobYaml(const std::string& yaml_text, const std::string& source)
 {
-  YAML::Node root;
-  try
-  {
-    root = YAML::Load(yaml_text);
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
-  }
+  const YAML::Node root = parseYamlDocument(yaml_text, source, yamlJobLimits());
   if (!root.IsMap())
     throw InputError(source + ":1: expected a map with name and polylines");
   try
@@ -156,12 +151,7 @@ Job parseScanJobYaml(const std::string& yaml_text, const std::string& source)
 
 Job loadScanJobFile(const std::string& path)
 {
-  std::ifstream in(path);
-  if (!in)
-    throw InputError(path + ": cannot open the job file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parseScanJobYaml(text.str(), path);
+  return parseScanJobYaml(readYamlText(path, yamlJobLimits()), path);
 }
 
 void validateScanJob(const Job& job, double field_half_width_m)
@@ -201,7 +191,7 @@ void validateScanJob(const Job& job, double field_half_width_m)
 std::string scanJobToYaml(const Job& job)
 {
   std::ostringstream out;
-  out << "name: \"" << job.name << "\"\npolylines:\n";
+  out << "name: " << yamlDoubleQuoted(job.name) << "\npolylines:\n";
   for (const Polyline& line : job.polylines)
   {
     out << "  - type: " << (line.type == PolylineType::Mark ? "mark" : "jump") << "\n";

@@ -10,6 +10,7 @@
 #include "scanhead/common/config_check.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/common/yaml_document.hpp"
 
 namespace scanhead
 {
@@ -154,15 +155,7 @@ void Km0Config::validate() const
 
 Km0Config km0ConfigFromYaml(const std::string& yaml_text, const std::string& source)
 {
-  YAML::Node root;
-  try
-  {
-    root = YAML::Load(yaml_text);
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw InputError(source + ": " + e.what());
-  }
+  const YAML::Node root = parseYamlDocument(yaml_text, source, yamlSettingsLimits("a KM0 config"));
   Km0Config c;
   if (!root || root.IsNull())
     return c;
@@ -301,11 +294,6 @@ Km0Config loadKm0Config(const std::string& path)
     c.validate();
     return c;
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw InputError(path + ": cannot read");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return km0ConfigFromYaml(text.str(), path);
+  return km0ConfigFromYaml(readYamlText(path, yamlSettingsLimits("a KM0 config", "the KM0 config")), path);
 }
 }  // namespace scanhead

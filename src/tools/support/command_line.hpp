@@ -86,6 +86,22 @@ inline CLI::Validator integerAtLeast(int minimum)
       "INT>=" + std::to_string(minimum));
 }
 
+/// \brief An integer in [\p minimum, \p maximum] (grid and probe counts whose work grows as their square).
+inline CLI::Validator integerIn(int minimum, int maximum)
+{
+  return CLI::Validator(
+      [minimum, maximum](std::string& text) -> std::string {
+        double value = 0.0;
+        if (parseNumber(text, value) != NumberText::Ok || value < minimum || value > maximum ||
+            value != std::floor(value))
+          return "must be an integer in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "] (got '" +
+                 text + "')";
+        text = std::to_string(static_cast<int>(value));
+        return {};
+      },
+      "INT in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]");
+}
+
 /// \brief A finite number > 0.
 inline CLI::Validator positiveNumber()
 {
