@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "scanhead/chain/config_io.hpp"
+#include "scanhead/chain/run_plan.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
 
 #include "ros_config.hpp"
@@ -30,6 +31,7 @@ NcInterpolatorNode::NcInterpolatorNode(ros::NodeHandle& nh, ros::NodeHandle& pri
   , debug_out_(nh, private_nh, "nc/debug", "debug_consumers", {})
   , downstream_(nh)
 {
+  private_nh.param("exit_on_error", exit_on_error_, false);
   private_nh.param("ready_timeout_s", ready_timeout_s_, ready_timeout_s_);
   private_nh.param("flow_timeout_s", flow_timeout_s_, flow_timeout_s_);
   hang_timeout_s_ = timeoutParam(nh, private_nh, "hang_timeout_s", hang_timeout_s_);
@@ -46,6 +48,10 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
   {
     const Job job = fromMsg(msg);
     validateScanJob(job, config_.optics.field_half_width_m);
+    // As in the batch runner: a job beyond limits.* (machine time, samples, memory) is refused here.
+    const RunPlan run_plan = planRun(config_, job, *optics_);
+    enforceRunLimits(run_plan, config_.limits, physicalMemoryBytes());
+    ROS_INFO("nc: job %u %s", msg.job_id, runPlanText(run_plan).c_str());
     auto nc = std::make_unique<NcStage>(config_, *optics_);
     nc->reset(job);
     nc_ = std::move(nc);
@@ -65,6 +71,12 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
   catch (const std::exception& e)
   {
     ROS_ERROR("nc: job %u '%s' rejected: %s", msg.job_id, msg.name.c_str(), e.what());
+    if (exit_on_error_)
+    {
+      ROS_FATAL("nc: shutting down with an error (exit code 1): the job of this launch was rejected");
+      failed_ = true;
+      ros::shutdown();
+    }
   }
 }
 

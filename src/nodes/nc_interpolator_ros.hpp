@@ -31,9 +31,11 @@ public:
   /// acknowledgements is gone the job is abandoned naming it; if all are alive (a slow stage) a
   /// warning is logged and the window waits until ~hang_timeout_s (default the global
   /// hang_timeout_s, else 60; 0: never). Each timeout abandons the job with an error naming what
-  /// is missing.
+  /// is missing. ~exit_on_error (default false; the launch sets it with out:=): a rejected job
+  /// shuts the node down with an error, which ends a one-job launch.
   NcInterpolatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
-  bool failed() const { return false; }
+  /// \brief True when a job failed with ~exit_on_error set (the node then shuts down).
+  bool failed() const { return failed_; }
 
 private:
   void onJob(const ScanJob& msg);
@@ -55,6 +57,8 @@ private:
   std::string settings_yaml_;  ///< this node's settings, sent with each plan
   ros::Timer timer_;
   FlowWindow window_;
+  bool exit_on_error_ = false;
+  bool failed_ = false;
   double ready_timeout_s_ = 20.0, flow_timeout_s_ = 10.0, hang_timeout_s_ = 60.0;
   ros::WallTime flow_clock_;  ///< since when the window has waited for an acknowledgement
   UpstreamWatch downstream_;  ///< the stages owing acknowledgements (upstream of energy/ack)
