@@ -88,18 +88,6 @@ double firTaps(double duration_s, double period_s)
   return std::ceil(duration_s / period_s) + 2.0;
 }
 
-/// The speed the NC caps every polyline at (NcInterpolator::start, the same formulas).
-double nc_speed_cap(const NcConfig& nc, double g)
-{
-  if (nc.filter_mode == "adaptive")
-    return nc.max_joint_speed_radps / g;
-  if (nc.cap_speeds)
-    return std::min(nc.max_joint_accel_radps2 * nc.fir_t1_s / 2.0,
-                    nc.max_joint_jerk_radps3 * nc.fir_t1_s * nc.fir_t2_s / 4.0) /
-           g;
-  return std::numeric_limits<double>::infinity();
-}
-
 std::string polylineField(const Job& job, std::size_t p)
 {
   return job.source + ": polylines[" + std::to_string(p) + "]";
@@ -355,7 +343,7 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
   // The NC program and the sample count, as NcInterpolator::start computes them.
   const double g = plan.speeds.joint_rate_gain_rad_per_m;
   NcProgramOptions options = NcProgramOptions::from(nc, recipe);
-  options.speed_cap_mps = nc_speed_cap(nc, g);
+  options.speed_cap_mps = nc.speedCap(g);
   const NcProgram program = buildNcProgram(job, options);
   const PathTimeline& timeline = program.timeline;
   plan.segments = timeline.segments().size();

@@ -27,7 +27,11 @@ fs::path normalised(const std::string& text)
   fs::path path = fs::absolute(text).lexically_normal();
   if (path.filename().empty() && path != path.root_path())
     path = path.parent_path();  // "out/" is "out"
-  return path;
+  // Symbolic links resolved: the folder locked, staged beside and replaced is the real one, so two
+  // runs naming it through different links exclude each other and the link keeps pointing at it.
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(path, ec);
+  return ec ? path : real;
 }
 
 std::string hostName()

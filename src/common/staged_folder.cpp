@@ -156,7 +156,9 @@ void StagedFolder::publish()
   if (::rename(path_.c_str(), target_.c_str()) != 0)
   {
     const std::string why = std::strerror(errno);
-    ::rename(aside.c_str(), target_.c_str());  // the previous results back in place
+    if (::rename(aside.c_str(), target_.c_str()) != 0)  // the previous results back in place
+      throw InputError(target_.string() + ": cannot rename the new results into place (" + why +
+                       "); the previous results are in " + aside.string() + " (the next run puts them back)");
     throw InputError(target_.string() + ": cannot rename the new results into place (" + why + ")");
   }
   published_ = true;

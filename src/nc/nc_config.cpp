@@ -2,6 +2,9 @@
 /// \brief Validation of the NC parameters (SPEC §2).
 #include "scanhead/nc/nc_config.hpp"
 
+#include <algorithm>
+#include <limits>
+
 #include "scanhead/common/config_check.hpp"
 
 namespace scanhead
@@ -25,6 +28,16 @@ void SkywritingConfig::validate() const
   requireSetting(run_out_s >= 0.0, "nc.skywriting.run_out_s", ">= 0", run_out_s);
   requireSetting(min_angle_deg >= 0.0 && min_angle_deg < 180.0, "nc.skywriting.min_angle_deg", "in [0, 180)",
                  min_angle_deg);
+}
+
+double NcConfig::speedCap(double joint_gain_rad_per_m) const
+{
+  if (filter_mode == "adaptive")
+    return max_joint_speed_radps / joint_gain_rad_per_m;
+  if (cap_speeds)
+    return std::min(max_joint_accel_radps2 * fir_t1_s / 2.0, max_joint_jerk_radps3 * fir_t1_s * fir_t2_s / 4.0) /
+           joint_gain_rad_per_m;
+  return std::numeric_limits<double>::infinity();
 }
 
 void NcConfig::validate() const

@@ -276,19 +276,7 @@ void NcInterpolator::start(const Job& job)
   st->adaptive = (config_.filter_mode == "adaptive");
 
   const double g = joint_gains_.maxCoeff();  // rad/m; 0 when the limits are not used
-  double speed_cap = std::numeric_limits<double>::infinity();
-  if (st->adaptive)
-  {
-    speed_cap = config_.max_joint_speed_radps / g;  // the adaptive path has no rate limiter
-  }
-  else if (config_.cap_speeds)
-  {
-    // Any path at V through box T1 then box T2: |q̈| = |q̇(t) − q̇(t − T1)|/T1 <= 2gV/T1 (a reversal),
-    // |q⃛| = |q̈(t) − q̈(t − T2)|/T2 <= 4gV/(T1·T2) (two reversals within T1): bounds, not estimates.
-    speed_cap = std::min(config_.max_joint_accel_radps2 * config_.fir_t1_s / 2.0,
-                         config_.max_joint_jerk_radps3 * config_.fir_t1_s * config_.fir_t2_s / 4.0) /
-                g;
-  }
+  const double speed_cap = config_.speedCap(g);
   NcProgramOptions options = NcProgramOptions::from(config_, recipe_);
   options.speed_cap_mps = speed_cap;
   NcPlan& plan = st->plan;

@@ -2,6 +2,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -123,12 +124,14 @@ int main(int argc, char** argv)
     // The plan refuses a job beyond limits.* (or physically impossible) before anything is started.
     const RunPlan plan = planRun(config, job, optics);
     enforceRunLimits(plan, config.limits, physicalMemoryBytes());
+    throwIfStopRequested();  // a signal while the job was read and planned
     out = args.out.empty() ? "results/" + job.name : args.out;
     // The folder is ours before anything is computed: a second run on it fails now, naming this one.
     std::vector<std::string> stale;
     const FolderLock lock = lockResultsFolder(out, &stale);
     for (const std::string& path : stale)
       std::fprintf(stderr, "scanhead_run: removed %s, left by a run that was killed\n", path.c_str());
+    throwIfStopRequested();
     if (!args.quiet)
     {
       const JobStats stats = computeJobStats(job, config.nc.implicit_jump_speed_mps);
@@ -217,6 +220,10 @@ int main(int argc, char** argv)
     // Everything this run started is gone by now (the unwinding removed it).
     std::cerr << "scanhead_run: " << stop.what() << "; " << (out.empty() ? "nothing written" : folderState(out))
               << "\n";
+    // Die of the signal, so a calling shell or make sees an interrupted child and stops too.
+    std::fflush(nullptr);
+    std::signal(stop.signal(), SIG_DFL);
+    std::raise(stop.signal());
     return 128 + stop.signal();
   }
   catch (const std::exception& e)

@@ -177,6 +177,27 @@ TEST(ResultsWriter, SecondWriterFailsAtOnceNamingTheHolder)
   fs::remove_all(parent);
 }
 
+TEST(ResultsWriter, FolderNamedThroughASymbolicLinkIsTheRealOne)
+{
+  Fixture f;
+  const fs::path parent = freshDir("link");
+  const fs::path real = parent / "real";
+  writeResultsFolder(real.string(), f.metrics, f.chain.energy(), f.config, f.job);
+  fs::create_directory_symlink("real", parent / "link");
+  {
+    // A run through the link locks the real folder: a run naming the real folder is excluded.
+    const FolderLock lock = lockResultsFolder((parent / "link").string());
+    EXPECT_EQ(lock.folder(), real);
+    EXPECT_THROW(lockResultsFolder(real.string()), FolderBusyError);
+    writeResultsFolder(lock, f.metrics, f.chain.energy(), f.config, f.job);
+  }
+  // The real folder was replaced, the link still names it.
+  EXPECT_TRUE(fs::is_symlink(parent / "link"));
+  EXPECT_TRUE(fs::exists(parent / "link" / "metrics.yaml"));
+  EXPECT_EQ(litterOf(real), std::vector<std::string>{});
+  fs::remove_all(parent);
+}
+
 TEST(ResultsWriter, LockIsReleasedWhenItsHolderDies)
 {
   const fs::path parent = freshDir("dies");

@@ -1,6 +1,7 @@
 /// \file results_writer.hpp
 /// \brief Writes a run's results folder so that it never lies: the folder at the target path is
-/// always either the previous run's, untouched, or this run's, complete (plots included).
+/// always either the previous run's, untouched, or this run's, complete (plots included); the one
+/// exception says so itself: the energy node's result of a stalled job (`complete: false`).
 ///
 /// How: the target is locked for the whole run (common/folder_lock: a second writer of the same
 /// folder fails at once, naming the first); the files are written into a staging folder of this

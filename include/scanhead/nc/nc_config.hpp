@@ -81,6 +81,12 @@ struct NcConfig
 
   /// \brief Delay of the filtered setpoint behind the sampled path with fixed filters: (T1 + T2) / 2 [s].
   double filterDelay() const { return 0.5 * (fir_t1_s + fir_t2_s); }
+  /// \brief The speed the NC caps every polyline at [m/s], for the largest joint rate per plane
+  /// speed \p joint_gain_rad_per_m (infinity: no cap). Adaptive filters: the joint speed limit (that
+  /// path has no rate limiter). Fixed filters with cap_speeds: any path at V through box T1 then box
+  /// T2 has |q̈| <= 2gV/T1 (a reversal) and |q⃛| <= 4gV/(T1·T2) (two reversals within T1): bounds,
+  /// not estimates, so V <= min(A·T1/2, J·T1·T2/4)/g keeps both limits.
+  double speedCap(double joint_gain_rad_per_m) const;
 
   /// \throws ConfigError naming the field and value
   void validate() const;

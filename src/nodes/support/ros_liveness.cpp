@@ -59,23 +59,43 @@ bool waitFor(int fd, short events, Clock::time_point deadline)
   }
 }
 
+/// \brief What a failed socket call with \p error says about the node: only a refusal or an
+/// unreachable host means it is gone; any other failure (ours: no descriptor left, no buffer) says
+/// nothing, and a node we cannot judge is waited for like a silent one (up to hang_timeout_s).
+PingResult failure(int error)
+{
+  switch (error)
+  {
+    case ECONNREFUSED:
+    case ECONNRESET:
+    case EPIPE:
+    case EHOSTUNREACH:
+    case ENETUNREACH:
+      return PingResult::Refused;
+    default:
+      return PingResult::Unanswered;
+  }
+}
+
 /// \brief One connection attempt and getPid call on \p address.
 PingResult pingAddress(const addrinfo& address, const std::string& host_port, Clock::time_point deadline)
 {
   Socket s;
   s.fd = ::socket(address.ai_family, address.ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, address.ai_protocol);
   if (s.fd < 0)
-    return PingResult::Refused;
+    return PingResult::Unanswered;  // out of descriptors here: nothing known about the node
   if (::connect(s.fd, address.ai_addr, address.ai_addrlen) != 0)
   {
     if (errno != EINPROGRESS)
-      return PingResult::Refused;
+      return failure(errno);
     if (!waitFor(s.fd, POLLOUT, deadline))
       return PingResult::Unanswered;
     int error = 0;
     socklen_t length = sizeof(error);
-    if (::getsockopt(s.fd, SOL_SOCKET, SO_ERROR, &error, &length) != 0 || error != 0)
-      return PingResult::Refused;
+    if (::getsockopt(s.fd, SOL_SOCKET, SO_ERROR, &error, &length) != 0)
+      return PingResult::Unanswered;
+    if (error != 0)
+      return failure(error);
   }
   const std::string body = "<?xml version=\"1.0\"?><methodCall><methodName>getPid</methodName><params><param><value>" +
                            ros::this_node::getName() + "</value></param></params></methodCall>";
@@ -88,7 +108,7 @@ PingResult pingAddress(const addrinfo& address, const std::string& host_port, Cl
       return PingResult::Unanswered;
     const ssize_t n = ::send(s.fd, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
     if (n < 0 && errno != EAGAIN && errno != EINTR)
-      return PingResult::Refused;
+      return failure(errno);
     sent += n > 0 ? static_cast<std::size_t>(n) : 0;
   }
   // The status line is enough: the server's thread is running and answering.
@@ -102,11 +122,12 @@ PingResult pingAddress(const addrinfo& address, const std::string& host_port, Cl
     if (n == 0)
       return PingResult::Refused;  // closed without an answer: the process is going away
     if (n < 0 && errno != EAGAIN && errno != EINTR)
-      return PingResult::Refused;
+      return failure(errno);
     if (n > 0)
       reply.append(buffer, static_cast<std::size_t>(n));
   }
-  return reply.compare(0, 5, "HTTP/") == 0 ? PingResult::Answered : PingResult::Refused;
+  // Something answers, if not XML-RPC: a process is there, so not known to be gone.
+  return reply.compare(0, 5, "HTTP/") == 0 ? PingResult::Answered : PingResult::Unanswered;
 }
 }  // namespace
 
@@ -114,13 +135,14 @@ PingResult pingNode(const std::string& uri, double timeout_s)
 {
   // http://host:port/ (roscpp and rospy both advertise this form)
   const std::string scheme = "http://";
+  // An address this check cannot use says nothing about the node: waited for, not declared gone.
   if (uri.compare(0, scheme.size(), scheme) != 0)
-    return PingResult::Refused;
+    return PingResult::Unanswered;
   const std::string rest = uri.substr(scheme.size());
   const std::string host_port = rest.substr(0, rest.find('/'));
   const std::size_t colon = host_port.rfind(':');
   if (colon == std::string::npos)
-    return PingResult::Refused;
+    return PingResult::Unanswered;
   const std::string host = host_port.substr(0, colon), port = host_port.substr(colon + 1);
   const Clock::time_point deadline =
       Clock::now() + std::chrono::microseconds(static_cast<long long>(std::max(0.0, timeout_s) * 1e6));
@@ -129,7 +151,7 @@ PingResult pingNode(const std::string& uri, double timeout_s)
   hints.ai_socktype = SOCK_STREAM;
   addrinfo* found = nullptr;
   if (::getaddrinfo(host.c_str(), port.c_str(), &hints, &found) != 0 || found == nullptr)
-    return PingResult::Refused;
+    return PingResult::Unanswered;  // a name lookup failing now (EAI_AGAIN) is not a death
   PingResult result = PingResult::Refused;
   for (const addrinfo* a = found; a != nullptr && result == PingResult::Refused; a = a->ai_next)
     result = pingAddress(*a, host_port, deadline);

@@ -43,8 +43,9 @@ struct UpstreamLiveness
 enum class PingResult
 {
   Answered,    ///< getPid answered
-  Unanswered,  ///< connected, no answer within the timeout (stopped, hung, overloaded)
-  Refused      ///< no server at the URI (the process is gone) or the URI is unusable
+  Unanswered,  ///< no answer within the timeout (stopped, hung, overloaded), or nothing known
+               ///< (a local failure, an unusable URI, a failed name lookup): waited for, not gone
+  Refused      ///< refused, reset or unreachable: no server at the URI (the process is gone)
 };
 
 /// \brief Calls getPid on the XML-RPC server at \p uri (http://host:port/) with a timeout.

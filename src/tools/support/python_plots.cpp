@@ -320,14 +320,6 @@ bool PlotProcess::plot(const std::string& dir)
   return true;
 }
 
-PlotHook PlotProcess::hook()
-{
-  return [this](const std::string& dir) {
-    if (!plot(dir))
-      throw PlotError(failure_);
-  };
-}
-
 PlotHook PlotProcess::beginHook()
 {
   return [this](const std::string& dir) { begin(dir); };

@@ -85,9 +85,6 @@ public:
   /// while the chain runs, so a missing matplotlib stops a long run at once.
   bool ended();
 
-  /// \brief plot() as a PlotHook that throws PlotError(failure()) if plot() fails; the PlotProcess
-  /// must outlive the hook's use.
-  PlotHook hook();
   /// \brief begin() as a PlotHook.
   PlotHook beginHook();
   /// \brief Stops the script and every drawing process it started, and waits until they are gone
