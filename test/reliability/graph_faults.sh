@@ -80,6 +80,10 @@ elapsed() { awk -v a="$(now)" -v b="$1" 'BEGIN { printf "%.1f", a - b }'; }
 
 # ---- 1. kill -9 of a stage mid-job -------------------------------------------------------------
 job_long="corner:speed=0.0002,angle=90"  # 4 M samples: ~10 s in the graph, ~4 s in batch
+# The kill of a separate galvo_servo must land while the servo still has work: 16 M samples, so a
+# loaded machine (rostopic's python start-up is seconds there) cannot let the job's upstream finish
+# first. Only the nodelet case runs such a job to its end, and it keeps the shorter one.
+job_kill="corner:speed=0.00005,angle=90"
 acked() {  # the energy node acknowledged samples of a job
   local n
   n=$(timeout 5 rostopic echo -n 1 /energy/ack/next_index 2> /dev/null | head -1)
@@ -87,7 +91,9 @@ acked() {  # the energy node acknowledged samples of a job
 }
 kill_mid_job() {  # nodelets
   local mode=$1 dir="$tmp/kill-$1" log="$tmp/kill-$1.log"
-  roslaunch "$launch_dir/virtual_machine.launch" job:="$job_long" out:="$dir" nodelets:="$mode" > "$log" 2>&1 &
+  local job=$job_long
+  [ "$mode" = false ] && job=$job_kill
+  roslaunch "$launch_dir/virtual_machine.launch" job:="$job" out:="$dir" nodelets:="$mode" > "$log" 2>&1 &
   local launch_pid=$!
   started $launch_pid
   # Mid-job: the energy node has acknowledged samples (energy/ack, latched).
@@ -97,6 +103,8 @@ kill_mid_job() {  # nodelets
   [ -n "$victim" ] || fail "kill ($mode): no pid for /galvo_servo"
   grep -q "energy: job 1 done" "$log" && fail "kill ($mode): the job ended before the kill (make it longer)"
   kill -9 "$victim"
+  [ "$mode" = false ] && grep -q "nc: job 1 done" "$log" &&
+    fail "kill ($mode): the NC had sent the whole job before the kill (make \$job_kill longer)"
   local t0
   t0=$(now)
   wait_exit 60 $launch_pid || { cat "$log"; fail "kill ($mode): the launch still runs 60 s after kill -9 of galvo_servo"; }
