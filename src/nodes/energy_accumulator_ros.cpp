@@ -8,6 +8,7 @@
 #include "ros_energy_views.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/chain/results_writer.hpp"
+#include "scanhead/chain/run_plan.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/metrics/metrics_report.hpp"
 #include "support/python_plots.hpp"
@@ -17,6 +18,7 @@ namespace scanhead
 EnergyAccumulatorNode::EnergyAccumulatorNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh)
   : config_(chainConfigFromParams(nh))
   , settings_yaml_(chainConfigToYaml(config_))
+  , optics_(opticalModelFromParams(nh, config_.optics))
   , stage_(config_)
   , nh_(nh)
 {
@@ -197,8 +199,17 @@ void EnergyAccumulatorNode::finishJob(std::uint32_t job_id, bool ok)
   finishResults(job_id, stage_.finish());
 }
 
-void EnergyAccumulatorNode::finishResults(std::uint32_t job_id, const RunMetrics& metrics)
+void EnergyAccumulatorNode::finishResults(std::uint32_t job_id, RunMetrics metrics)
 {
+  // The run plan's warnings, as the batch runner records them (graph = batch, byte for byte).
+  try
+  {
+    metrics.warnings = planRun(config_, current_job_, *optics_).warnings;
+  }
+  catch (const std::exception& e)
+  {
+    ROS_WARN("energy: job %u: no run-plan warnings (%s)", job_id, e.what());
+  }
   ROS_INFO_STREAM("energy: job " << job_id << " done\n" << metricsTable(metrics));
   publishResults(job_id, metrics);
   if (!out_.empty())

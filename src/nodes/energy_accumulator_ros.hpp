@@ -18,6 +18,7 @@
 #include "scanhead/chain/chain_stages.hpp"
 #include "scanhead/chain/energy_sink_stage.hpp"
 #include "scanhead/chain/energy_stage.hpp"
+#include "scanhead/optics/optical_model.hpp"
 
 namespace scanhead
 {
@@ -43,7 +44,8 @@ private:
   /// \brief The stream stopped mid-job: what arrived is written as an incomplete result.
   void finishStalledJob(const StreamStall& stall);
   /// \brief Publishes and writes \p metrics and the stage's map, renders the views, ends if asked.
-  void finishResults(std::uint32_t job_id, const RunMetrics& metrics);
+  /// \brief Records the run plan's warnings in \p metrics, publishes and writes them.
+  void finishResults(std::uint32_t job_id, RunMetrics metrics);
   /// \brief With ~exit_when_done, shuts the node down after a delay that lets a recorder finish.
   void shutdownIfDone();
   void publishResults(std::uint32_t job_id, const RunMetrics& metrics);
@@ -52,6 +54,7 @@ private:
 
   ChainConfig config_;
   std::string settings_yaml_;               ///< this node's settings, compared with the NC's
+  std::unique_ptr<OpticalModel> optics_;    ///< for the run plan's warnings (as the batch runner's)
   std::map<std::uint32_t, Job> jobs_;       ///< recent jobs by id
   std::map<std::uint32_t, NcPlan> plans_;   ///< the NC's plans of recent jobs, by id
   std::set<std::uint32_t> rejected_plans_;  ///< jobs whose nc/plan could not be read: they fail

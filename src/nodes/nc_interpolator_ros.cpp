@@ -52,6 +52,8 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
     const RunPlan run_plan = planRun(config_, job, *optics_);
     enforceRunLimits(run_plan, config_.limits, physicalMemoryBytes());
     ROS_INFO("nc: job %u %s", msg.job_id, runPlanText(run_plan).c_str());
+    for (const std::string& warning : run_plan.warnings)
+      ROS_WARN("nc: job %u: warning: %s", msg.job_id, warning.c_str());
     auto nc = std::make_unique<NcStage>(config_, *optics_);
     nc->reset(job);
     nc_ = std::move(nc);

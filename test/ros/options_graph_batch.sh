@@ -42,6 +42,9 @@ compare timing "squares:recipe=1,rows=1,columns=1,spacing=0.003" recipe.preset=t
 # view, a crop region and a small tile cache that spills: metrics.yaml and the crops byte for byte.
 compare layer "squares:recipe=2,rows=1,columns=1,side=0.004" energy.defocus_mode=field energy.tile_cache_bytes=1048576 \
   thermal.enabled=true thermal.duration_s=0.004 "energy.crop_regions=-0.001,-0.001,0.001,0.001,centre"
+# Questionable settings: the run plan's warnings are in both metrics.yaml (the energy node plans too).
+compare warned "corner:speed=2,angle=90" energy.pixel_m=20e-6
+grep -q "^warnings:" "$tmp/warned-graph/metrics.yaml" || { echo "FAIL: warned: no warnings in the graph's metrics.yaml"; exit 1; }
 for f in crops/part_000.tiff crops/centre.tiff thermal_melted.tiff; do
   cmp "$tmp/layer-batch/$f" "$tmp/layer-graph/$f" || { echo "FAIL: layer: $f differs"; exit 1; }
 done
