@@ -43,8 +43,8 @@ private:
   void finishJob(std::uint32_t job_id, bool ok);
   /// \brief The stream stopped mid-job: what arrived is written as an incomplete result.
   void finishStalledJob(const StreamStall& stall);
-  /// \brief Publishes and writes \p metrics and the stage's map, renders the views, ends if asked.
-  /// \brief Records the run plan's warnings in \p metrics, publishes and writes them.
+  /// \brief Publishes and writes \p metrics (with the run plan's warnings, as the batch runner's) and
+  /// the stage's map, renders the views, ends if asked.
   void finishResults(std::uint32_t job_id, RunMetrics metrics);
   /// \brief With ~exit_when_done, shuts the node down after a delay that lets a recorder finish.
   void shutdownIfDone();
