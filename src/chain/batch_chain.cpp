@@ -65,6 +65,13 @@ RunMetrics BatchChain::run(const Job& job, const ProgressCallback& progress)
   plan_ = RunPlan();
   plan_ = planRun(config_, job, optics_model_);
   enforceRunLimits(plan_, config_.limits, physicalMemoryBytes());
+  return run(job, plan_, progress);
+}
+
+RunMetrics BatchChain::run(const Job& job, const RunPlan& plan, const ProgressCallback& progress)
+{
+  if (&plan != &plan_)
+    plan_ = plan;
   if (warn_)
     for (const std::string& warning : plan_.warnings)
       warn_(warning);

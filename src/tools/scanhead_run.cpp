@@ -147,7 +147,7 @@ int main(int argc, char** argv)
     int last_percent = -1;
     const auto start = std::chrono::steady_clock::now();
     std::uint64_t plotter_checked = 0;
-    const RunMetrics metrics = chain.run(job, [&](std::uint64_t done, std::uint64_t total) {
+    const RunMetrics metrics = chain.run(job, plan, [&](std::uint64_t done, std::uint64_t total) {
       throwIfStopRequested();
       // A plot script that already ended has failed (no matplotlib?): stop now, not after the run.
       if (plotter && done - plotter_checked >= 65536)

@@ -45,6 +45,11 @@ public:
   /// stage still run out of memory, std::bad_alloc becomes a ConfigError naming the stage, the
   /// plan's estimate and the settings that size it.
   RunMetrics run(const Job& job, const ProgressCallback& progress = {});
+  /// \brief run() with the plan the caller already made and enforced (a tool that plans before it
+  /// starts anything else), so the job is not planned twice.
+  /// \pre \p plan is planRun(config, job, optics) of this chain's config and optics, and passed
+  /// enforceRunLimits
+  RunMetrics run(const Job& job, const RunPlan& plan, const ProgressCallback& progress = {});
 
   /// \brief The plan of the last run() (planned even when it was refused).
   const RunPlan& plan() const { return plan_; }
