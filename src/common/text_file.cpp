@@ -13,15 +13,21 @@ namespace scanhead
 {
 void writeTextFile(const std::string& path, const std::string& text)
 {
+  writeFileBytes(path, text.data(), text.size());
+}
+
+void writeFileBytes(const std::string& path, const void* data, std::size_t size)
+{
   // POSIX calls, not a std::ofstream: the stream buffers a short text until its destructor, which
   // drops a write error (a full disk left an empty file behind a "success"); here every error is
   // seen, with its errno.
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd < 0)
     throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
-  for (std::size_t at = 0; at < text.size();)
+  const char* bytes = static_cast<const char*>(data);
+  for (std::size_t at = 0; at < size;)
   {
-    const ssize_t n = ::write(fd, text.data() + at, text.size() - at);
+    const ssize_t n = ::write(fd, bytes + at, size - at);
     if (n < 0 && errno == EINTR)
       continue;
     if (n <= 0)

@@ -1,12 +1,10 @@
 /// \file png_writer.cpp
 #include "scanhead/report/png_writer.hpp"
+#include "scanhead/common/text_file.hpp"
 
 #include <zlib.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -93,17 +91,7 @@ std::vector<std::uint8_t> assemble(int width, int height, std::uint8_t bit_depth
 
 void writeFile(const std::string& path, const std::vector<std::uint8_t>& bytes)
 {
-  std::ofstream f(path, std::ios::binary | std::ios::trunc);
-  if (!f)
-  {
-    throw std::runtime_error("png: cannot open '" + path + "' for writing: " + std::strerror(errno));
-  }
-  f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  f.close();
-  if (!f)
-  {
-    throw std::runtime_error("png: writing '" + path + "' failed: " + std::strerror(errno));
-  }
+  writeFileBytes(path, bytes.data(), bytes.size());
 }
 }  // namespace
 

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/common/text_file.hpp"
 
 namespace scanhead
 {
@@ -271,18 +271,14 @@ void writeFloatTiff(const std::string& path, int width, int height, const float*
 {
   const std::vector<std::uint8_t> bytes = encodeFloatTiff(width, height, data, scale);
   const std::string tmp = path + ".tmp";
+  try
   {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f)
-      throw InputError(path + ": cannot open " + tmp + " for writing the TIFF: " + std::strerror(errno));
-    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    f.close();
-    if (!f)
-    {
-      const std::string why = std::strerror(errno);
-      std::remove(tmp.c_str());
-      throw InputError(path + ": writing the TIFF to " + tmp + " failed (" + why + ")");
-    }
+    writeFileBytes(tmp, bytes.data(), bytes.size());
+  }
+  catch (const InputError& e)
+  {
+    std::remove(tmp.c_str());
+    throw InputError(path + ": " + e.what());  // the file the user knows first, then the temporary one
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0)
   {

@@ -1,7 +1,8 @@
 /// \file text_file.hpp
-/// \brief Writing a whole text file, with the error every writer of the project reports.
+/// \brief Writing a whole file (text or bytes), with the error every writer of the project reports.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace scanhead
@@ -9,4 +10,9 @@ namespace scanhead
 /// \brief Writes \p text to \p path (binary, replacing the file).
 /// \throws InputError "<path>: cannot write (<strerror>)" if the file cannot be written
 void writeTextFile(const std::string& path, const std::string& text);
+
+/// \brief Writes \p size bytes at \p data to \p path (replacing the file), with POSIX calls so
+/// that every error is seen with its own errno (a full disk included).
+/// \throws InputError "<path>: cannot write (<strerror>)" if the file cannot be written
+void writeFileBytes(const std::string& path, const void* data, std::size_t size);
 }  // namespace scanhead
