@@ -113,24 +113,54 @@ void EnergyStage::process(const SpotChunk& chunk)
   }
   if (!side_)
     side_ = std::make_unique<SideThread>();
-  side_->start(track);
+  // This thread merges the chunk's samples into strokes; both threads then weigh the strokes (the side thread once
+  // the trackers are done: the energy's weights are most of the work) and this one adds them to the map in stream
+  // order, so the map is the same floats as on one thread.
   try
   {
-    accumulator_.process(chunk);
+    accumulator_.stage(chunk);
   }
   catch (...)
   {
-    // The trackers read the chunk: let them finish before it goes (their own error is secondary).
+    // As on one thread: the trackers still see the chunk (their own error is secondary) and the strokes merged
+    // before the error are drawn.
     try
     {
-      side_->wait();
+      track();
     }
     catch (...)
     {
     }
+    accumulator_.weighStaged();
+    accumulator_.applyStaged();
     throw;
   }
-  side_->wait();
+  side_->start([this, &track] {
+    track();
+    accumulator_.weighStaged();
+  });
+  std::exception_ptr weigh_error, side_error;
+  try
+  {
+    accumulator_.weighStaged();
+  }
+  catch (...)
+  {
+    weigh_error = std::current_exception();
+  }
+  try
+  {
+    side_->wait();  // the trackers read the chunk: they finish before it goes
+  }
+  catch (...)
+  {
+    side_error = std::current_exception();
+  }
+  if (weigh_error)
+    std::rethrow_exception(weigh_error);  // (out of memory) some strokes have no weights
+  accumulator_.applyStaged();
+  if (side_error)
+    std::rethrow_exception(side_error);
 }
 
 void EnergyStage::feedThermal(const SpotChunk& chunk)

@@ -45,11 +45,28 @@ void EnergyAccumulator::reset()
   period_s_ = 0.0;
   outside_j_ = 0.0;
   merger_.reset();
+  staged_.clear();
+  staged_pixels_ = 0.0;
+  next_to_weigh_->store(0);
   stroke_deposit_.resetCounters();
   samples_ = strokes_ = 0;
 }
 
 void EnergyAccumulator::process(const SpotChunk& chunk)
+{
+  try
+  {
+    stage(chunk);
+  }
+  catch (...)
+  {
+    drawStaged();  // the strokes merged before the error
+    throw;
+  }
+  drawStaged();
+}
+
+void EnergyAccumulator::stage(const SpotChunk& chunk)
 {
   const bool started = sequence_.started();
   const ChunkAdmission admission = sequence_.admit(chunk.first_index, chunk.samples.size());
@@ -94,6 +111,7 @@ void EnergyAccumulator::finish()
   has_pending_ = false;
   if (exact_)
     flushStroke();
+  drawStaged();
 }
 
 void EnergyAccumulator::deposit(const SpotSample& from, const Eigen::Vector2d& to, double period_s)
@@ -125,6 +143,41 @@ void EnergyAccumulator::flushStroke()
 void EnergyAccumulator::drawStroke(const Stroke& stroke)
 {
   ++strokes_;
-  stroke_deposit_.deposit(map_, stroke, outside_j_);
+  staged_.push_back(stroke);
+  if (staged_weights_.size() < staged_.size())
+    staged_weights_.emplace_back();
+  // Weights of the capsule: ≤ (2R/p + 2) rows of ≤ (L + 2R)/p + 2 pixels, plus a block of 8 a row.
+  const double p = map_.pixel();
+  const double reach = 2.0 * config_.truncation_radii * stroke.footprint.major_radius_m / p + 2.0;
+  staged_pixels_ += reach * (stroke.displacement().norm() / p + reach + 8.0);
+  if (staged_.size() >= kMaxStagedStrokes || staged_pixels_ >= kMaxStagedPixels)
+    drawStaged();  // bounded memory whatever the chunk size
+}
+
+void EnergyAccumulator::weighStaged()
+{
+  std::atomic<std::size_t>& next = *next_to_weigh_;
+  for (std::size_t k = next.fetch_add(1); k < staged_.size(); k = next.fetch_add(1))
+    stroke_deposit_.weigh(map_, staged_[k], staged_weights_[k]);
+}
+
+void EnergyAccumulator::applyStaged()
+{
+  constexpr std::size_t kKeptSlotFloats = std::size_t{1} << 16;  // a larger slot is freed after use
+  for (std::size_t k = 0; k < staged_.size(); ++k)
+  {
+    stroke_deposit_.apply(map_, staged_weights_[k], outside_j_);
+    if (staged_weights_[k].weights.size() > kKeptSlotFloats)
+      staged_weights_[k] = StrokeWeights();
+  }
+  staged_.clear();
+  staged_pixels_ = 0.0;
+  next_to_weigh_->store(0);
+}
+
+void EnergyAccumulator::drawStaged()
+{
+  weighStaged();
+  applyStaged();
 }
 }  // namespace scanhead

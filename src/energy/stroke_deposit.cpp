@@ -171,7 +171,17 @@ StrokeDeposit::StrokeDeposit(const EnergyConfig& config)
 
 void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& outside_j)
 {
-  const double energy_j = stroke.energy();
+  weigh(map, stroke, scratch_);
+  apply(map, scratch_, outside_j);
+}
+
+void StrokeDeposit::weigh(const TiledEnergyMap& map, const Stroke& stroke, StrokeWeights& out) const
+{
+  out.energy_j = stroke.energy();
+  out.off_map = false;
+  out.rows.clear();
+  out.total = 0.0;
+  out.midpoint = stroke.start + 0.5 * stroke.displacement();
   const SpotFootprint& fp = stroke.footprint;
   const Eigen::Vector2d d = stroke.displacement();
   const SegmentIntegral si(fp, d);
@@ -191,7 +201,7 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
   if (row_hi < 0.0 || row_lo > static_cast<double>(height - 1) || col_hi < 0.0 ||
       col_lo > static_cast<double>(width - 1))
   {
-    outside_j += energy_j;  // the whole capsule off the map
+    out.off_map = true;  // the whole capsule off the map
     return;
   }
 
@@ -200,7 +210,7 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
   const Eigen::Vector2d nrm(-t.y(), t.x());
   // Per-stroke constants of the row recurrences (curvatures along a row, in columns).
   const double alpha_stationary = si.qxx * p * p;
-  rows_.clear();
+  std::vector<float>& weights = out.weights;
   std::size_t used = 0;
   double total = 0.0;
   for (double jr = row_lo; jr <= row_hi; jr += 1.0)
@@ -230,9 +240,9 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
     const int n = static_cast<int>(i_hi - i_lo) + 1;
     // The lane kernels write whole blocks of 8: room for the last one (the next row overwrites the excess).
     const std::size_t room = used + static_cast<std::size_t>(n) + 8;
-    if (weights_.size() < room)
-      weights_.resize(std::max(2 * weights_.size(), room));
-    float* w = weights_.data() + used;
+    if (weights.size() < room)
+      weights.resize(std::max(2 * weights.size(), room));
+    float* w = weights.data() + used;
     // x − c0.x of column i_lo + k is x0 + k·p.
     const double x0 = o.x() + (i_lo + 0.5) * p - c0.x();
     const double ry = y - c0.y();
@@ -303,22 +313,37 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
       row_sum += erfRowLanes(e, ka, kb, true, w);
       row_sum += erfRowLanes(e, kb, n, false, w);
     }
-    Row r;
+    StrokeWeights::Row r;
     r.row = static_cast<std::int64_t>(jr);
     r.col = static_cast<std::int64_t>(i_lo);
     r.n = n;
     r.offset = used;
     r.sum = row_sum;
     total += r.sum;
-    rows_.push_back(r);
+    out.rows.push_back(r);
     used += static_cast<std::size_t>(n);
   }
-  pixels_ += used;
+  out.total = total;
+}
 
+void StrokeDeposit::apply(TiledEnergyMap& map, const StrokeWeights& weights, double& outside_j)
+{
+  const double energy_j = weights.energy_j;
+  if (weights.off_map)
+  {
+    outside_j += energy_j;
+    return;
+  }
+  const double p = map.pixel();
+  const Eigen::Vector2d& o = map.origin();
+  const std::int64_t width = map.width(), height = map.height();
+  const double total = weights.total;
+  for (const StrokeWeights::Row& r : weights.rows)
+    pixels_ += static_cast<std::uint64_t>(r.n);
   if (!(total > 0.0))
   {
     // No pixel centre in reach of the spot (pixels far larger than it): the pixel holding the midpoint takes it all.
-    const Eigen::Vector2d mid = c0 + 0.5 * d;
+    const Eigen::Vector2d& mid = weights.midpoint;
     const double i = std::floor((mid.x() - o.x()) / p), j = std::floor((mid.y() - o.y()) / p);
     if (i < 0.0 || j < 0.0 || i > static_cast<double>(width - 1) || j > static_cast<double>(height - 1))
     {
@@ -332,7 +357,7 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
   }
   const float scale = static_cast<float>(energy_j / (p * p * total));  // [J/m²] per unit weight
   double weight_in = 0.0;
-  for (const Row& r : rows_)
+  for (const StrokeWeights::Row& r : weights.rows)
   {
     if (r.row < 0 || r.row >= height)
       continue;
@@ -340,7 +365,7 @@ void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& o
     const std::int64_t khi = std::min<std::int64_t>(r.n - 1, width - 1 - r.col);
     if (klo > khi)
       continue;
-    const float* w = weights_.data() + r.offset;
+    const float* w = weights.weights.data() + r.offset;
     const int count = static_cast<int>(khi - klo + 1);
     map.addRow(r.row, r.col + klo, w + klo, scale, count);
     weight_in += count == r.n ? r.sum : energy_detail::sumRow(w + klo, count);

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "../src/energy/lane_math.hpp"  // private to src/energy: its lane exp and erf checked here
@@ -384,6 +385,44 @@ TEST(StrokeDeposit, ChunkInvariance)
     EXPECT_TRUE(maps[i] == maps[0]) << "chunking " << i;
     EXPECT_EQ(outsides[i], outsides[0]);
     EXPECT_EQ(strokes[i], strokes[0]);
+  }
+}
+
+// The two-thread form (stage, weighStaged on two threads, applyStaged: what EnergyStage does with stream.threads = 2)
+// gives the map of process(), bit for bit, at any chunking, also when a chunk stages more than kMaxStagedStrokes
+// strokes (one stroke a sample: the power alternates) and stage() draws them itself.
+TEST(StrokeDeposit, StagedOnTwoThreadsEqualsProcess)
+{
+  Stream s = mixedPath();
+  Eigen::Vector2d x(0.5e-3, 0.5e-3), v(1.5, 0.3);
+  for (int k = 0; k < 4000; ++k)
+  {
+    if (k % 400 == 0)
+      v = Eigen::Vector2d(std::cos(0.7 * k), std::sin(0.7 * k)) * (1.0 + (k / 400) % 3);
+    x += v * kTs;
+    const double power = k < 2500 ? ((k / 150) % 3 == 0 ? 0.0 : 100.0) : 100.0 + 10.0 * (k % 2);
+    s.add(x, power);
+  }
+  const EnergyConfig cfg = withMethod("exact");
+  const Eigen::Vector2d lo(0.2e-3, 0.2e-3), hi(1.0e-3, 1.0e-3);
+  for (std::size_t chunk : {7u, 1000u, 4000u})
+  {
+    EnergyAccumulator one(cfg, lo, hi), two(cfg, lo, hi);
+    feed(one, s, chunk);
+    for (std::size_t start = 0; start < s.pos.size(); start += chunk)
+    {
+      two.stage(s.chunk(start, chunk));
+      std::thread helper([&two] { two.weighStaged(); });
+      two.weighStaged();
+      helper.join();
+      two.applyStaged();
+    }
+    two.finish();
+    EXPECT_GT(one.strokesDeposited(), EnergyAccumulator::kMaxStagedStrokes);
+    EXPECT_TRUE(one.map().toDense().data() == two.map().toDense().data()) << "chunk " << chunk;
+    EXPECT_EQ(one.energyOutsideMap(), two.energyOutsideMap());
+    EXPECT_EQ(one.strokesDeposited(), two.strokesDeposited());
+    EXPECT_EQ(one.pixelsDrawn(), two.pixelsDrawn());
   }
 }
 

@@ -3,7 +3,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <atomic>
 #include <cstdint>
+#include <memory>
+#include <vector>
 
 #include "scanhead/common/chunk.hpp"
 #include "scanhead/common/chunk_sequencer.hpp"
@@ -41,6 +44,19 @@ public:
   void process(const SpotChunk& chunk);
   /// \brief Deposits the last pending sample (call once at the end of the stream).
   void finish();
+
+  /// \brief process() in three steps, for a caller with a second thread (EnergyStage, stream.threads = 2): stage()
+  /// merges the chunk's samples into strokes (exact) without drawing them (sampled: deposits them); weighStaged()
+  /// computes the staged strokes' weights, and any number of threads may run it at once (each takes the next stroke
+  /// not yet taken); applyStaged() adds them to the map in stream order once every weighStaged() has returned. The map
+  /// is the one process() gives, bit for bit: each stroke's weights are the same floats whichever thread computed them.
+  /// At most kMaxStagedStrokes strokes or kMaxStagedPixels weights are staged; beyond, stage() draws them itself.
+  /// If stage() throws, what it staged is still to be weighed and applied (process() does).
+  void stage(const SpotChunk& chunk);
+  void weighStaged();
+  void applyStaged();
+  static constexpr std::size_t kMaxStagedStrokes = 1024;
+  static constexpr double kMaxStagedPixels = 8.0 * 1024 * 1024;  ///< 32 MB of float weights
   const TiledEnergyMap& map() const { return map_; }
   double energyOutsideMap() const { return outside_j_; }  ///< footprint energy that fell off the map [J]
   /// \brief Samples that carried energy to the map (exact and sampled).
@@ -53,7 +69,8 @@ public:
 private:
   /// \brief The segment of \p from (its energy over \p period_s) to \p to.
   void deposit(const SpotSample& from, const Eigen::Vector2d& to, double period_s);
-  void drawStroke(const Stroke& stroke);
+  void drawStroke(const Stroke& stroke);  ///< stages it
+  void drawStaged();                      ///< weighs and applies the staged strokes on this thread
   void flushStroke();
   EnergyConfig config_;
   bool exact_ = true;
@@ -67,5 +84,10 @@ private:
   StrokeMerger merger_;
   StrokeDeposit stroke_deposit_;
   std::uint64_t samples_ = 0, strokes_ = 0;
+  std::vector<Stroke> staged_;
+  std::vector<StrokeWeights> staged_weights_;  ///< slot k: staged_[k]'s weights (slots kept between batches)
+  double staged_pixels_ = 0.0;                 ///< upper estimate of the staged strokes' weights
+  /// Next staged stroke to weigh (on the heap: keeps the accumulator movable).
+  std::unique_ptr<std::atomic<std::size_t>> next_to_weigh_ = std::make_unique<std::atomic<std::size_t>>(0);
 };
 }  // namespace scanhead

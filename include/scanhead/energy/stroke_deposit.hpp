@@ -2,6 +2,7 @@
 /// \brief A stroke's energy drawn on the map by the closed form of segment_integral.hpp (energy.method: exact).
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
 
@@ -11,6 +12,25 @@
 
 namespace scanhead
 {
+/// \brief A stroke's pixel weights, computed apart from the map (StrokeDeposit::weigh) so that several threads can
+/// weigh strokes while one adds them to the map in stream order (StrokeDeposit::apply): the same floats either way.
+struct StrokeWeights
+{
+  struct Row
+  {
+    std::int64_t row = 0, col = 0;  ///< map row, first map column
+    int n = 0;                      ///< pixels
+    std::size_t offset = 0;         ///< into weights
+    double sum = 0.0;               ///< Σ of its float weights
+  };
+  std::vector<float> weights;
+  std::vector<Row> rows;
+  double total = 0.0;     ///< Σ of the rows' sums, in row order
+  double energy_j = 0.0;  ///< the stroke's energy
+  Eigen::Vector2d midpoint = Eigen::Vector2d::Zero();
+  bool off_map = false;  ///< the whole capsule lies off the map
+};
+
 /// \brief Draws one Stroke: the weights W(r) of SegmentIntegral at the pixel centres of the capsule of radius
 /// R = truncation_radii·w_major around the segment start → start + n·Δ (the footprint truncated as the sampled
 /// method truncates each sub-step: across the stroke and beyond both ends), scaled so that they sum to exactly the
@@ -31,22 +51,19 @@ class StrokeDeposit
 {
 public:
   explicit StrokeDeposit(const EnergyConfig& config);
-  /// \brief Deposits \p stroke on \p map; adds the energy drawn off the map to \p outside_j [J].
+  /// \brief Deposits \p stroke on \p map; adds the energy drawn off the map to \p outside_j [J] (weigh, then apply).
   void deposit(TiledEnergyMap& map, const Stroke& stroke, double& outside_j);
+  /// \brief The weights of \p stroke on \p map's grid into \p out. Reads only the map's geometry (origin, pixel, size)
+  /// and changes nothing here: any number of threads may weigh at once, each into its own \p out.
+  void weigh(const TiledEnergyMap& map, const Stroke& stroke, StrokeWeights& out) const;
+  /// \brief Adds weights of weigh() (same map) to \p map; the energy drawn off the map goes to \p outside_j [J].
+  void apply(TiledEnergyMap& map, const StrokeWeights& weights, double& outside_j);
   std::uint64_t pixelsDrawn() const { return pixels_; }  ///< pixel weights computed so far (cost measure)
   void resetCounters() { pixels_ = 0; }
 
 private:
-  struct Row
-  {
-    std::int64_t row = 0, col = 0;  ///< map row, first map column
-    int n = 0;                      ///< pixels
-    std::size_t offset = 0;         ///< into weights_
-    double sum = 0.0;               ///< Σ of its float weights
-  };
   EnergyConfig config_;
-  std::vector<float> weights_;
-  std::vector<Row> rows_;
+  StrokeWeights scratch_;  ///< deposit()'s
   std::uint64_t pixels_ = 0;
 };
 }  // namespace scanhead
