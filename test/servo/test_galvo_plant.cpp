@@ -150,8 +150,9 @@ TEST(GalvoPlant, SteadySpeedUnderConstantVoltage)
 }
 
 // Stiction: with |Kc i − Tp| ≤ Tc the rotor does not move at all (ω_r stays exactly 0; the angle
-// moves only by the mode's static twist Kr i/ωres² under the constant current, 1e-14 rad after the
-// transient e^{-ξ ωres·20 ms} ≈ 1e-6 of a 6e-9 rad twist); above, it breaks away in the drive's
+// moves only by the mode's static twist Kr i/ωres² under the constant current: after the transient
+// e^{-ξ ωres·20 ms} ≈ 1e-6 of a 3e-9 rad twist, the rest is the rounding of 2000 steps of the state
+// update on |θ| = 0.2, ≤ 2 ulp (5.6e-17) a step: 1.1e-13 rad); above, it breaks away in the drive's
 // direction. sgn(0) = 0.
 TEST(GalvoPlant, StictionHoldsAndBreaksAway)
 {
@@ -164,7 +165,7 @@ TEST(GalvoPlant, StictionHoldsAndBreaksAway)
     plant.advance(hold, kTs);
   EXPECT_EQ(plant.rigidVelocity(), 0.0);
   const double wr = 2 * kPi * g.mode_frequency_hz;
-  EXPECT_NEAR(plant.angle(), 0.2 + g.mode_gain * plant.current() / (wr * wr), 1e-14);
+  EXPECT_NEAR(plant.angle(), 0.2 + g.mode_gain * plant.current() / (wr * wr), 1.1e-13);
   EXPECT_NEAR(plant.frictionTorque(), g.torque_constant_nm_per_a * plant.current(), 1e-15);
   for (int k = 0; k < 2000; ++k)
     plant.advance(1.2 * hold / 0.9, kTs);
