@@ -36,6 +36,11 @@ Histogram::Histogram(double lo, double hi, int bins)
                       ")");
   }
   counts_.assign(static_cast<std::size_t>(bins), 0);
+  edges_.resize(static_cast<std::size_t>(bins) + 1);
+  for (int i = 0; i < bins; ++i)
+    edges_[static_cast<std::size_t>(i)] = lo_ + span_ * i / bins;  // monotonic in i: each operation rounds monotonically
+  edges_.back() = hi_;
+  scale_ = bins / span_;
   for (int i = 0; i < bins; ++i)
   {
     if (!(binEdge(i + 1) > binEdge(i)))
@@ -51,9 +56,7 @@ double Histogram::binEdge(int i) const
   const int n = bins();
   if (i < 0 || i > n)
     throw std::out_of_range("histogram: edge " + std::to_string(i) + " of " + std::to_string(n) + " bins");
-  if (i == n)
-    return hi_;
-  return lo_ + span_ * i / n;  // monotonic in i: each operation rounds monotonically
+  return edges_[static_cast<std::size_t>(i)];
 }
 
 std::uint64_t Histogram::binCount(int i) const
@@ -65,13 +68,14 @@ std::uint64_t Histogram::binCount(int i) const
 
 int Histogram::binOf(double x) const
 {
+  // A guess, then the edges decide (the guess may round across one): any guess gives the same bin.
   const int n = bins();
-  int i = static_cast<int>(std::floor((x - lo_) / span_ * n));
+  int i = static_cast<int>(std::floor((x - lo_) * scale_));
   i = std::clamp(i, 0, n - 1);
-  // The division may round across an edge: settle on the edges binEdge() reports.
-  while (i > 0 && x < binEdge(i))
+  const double* edge = edges_.data();
+  while (i > 0 && x < edge[i])
     --i;
-  while (i + 1 < n && x >= binEdge(i + 1))
+  while (i + 1 < n && x >= edge[i + 1])
     ++i;
   return i;
 }

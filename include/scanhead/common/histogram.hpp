@@ -77,7 +77,9 @@ private:
   int binOf(double x) const;
 
   double lo_, hi_, span_;
+  double scale_ = 0.0;  ///< bins / span: binOf()'s first guess
   std::vector<std::uint64_t> counts_;
+  std::vector<double> edges_;  ///< binEdge(0 … bins), computed once (binOf compares against them)
   std::uint64_t in_range_ = 0, underflow_ = 0, overflow_ = 0, non_finite_ = 0;
   double min_, max_;
   double sum_ = 0.0, sum_compensation_ = 0.0;  ///< Neumaier sum of the finite samples
