@@ -38,7 +38,8 @@ Histogram::Histogram(double lo, double hi, int bins)
   counts_.assign(static_cast<std::size_t>(bins), 0);
   edges_.resize(static_cast<std::size_t>(bins) + 1);
   for (int i = 0; i < bins; ++i)
-    edges_[static_cast<std::size_t>(i)] = lo_ + span_ * i / bins;  // monotonic in i: each operation rounds monotonically
+    edges_[static_cast<std::size_t>(i)] =
+        lo_ + span_ * i / bins;  // monotonic in i: each operation rounds monotonically
   edges_.back() = hi_;
   scale_ = bins / span_;
   for (int i = 0; i < bins; ++i)

@@ -12,14 +12,15 @@
 ///   L = 3.3 sin 60° / 1e4 = 286 µH.
 /// - X: same motor (R, L, Kc), lighter mirror Jeq = 1.4e-7 kg·m² (NC Fig. 4: X more dynamic than Y).
 /// - B = 2e-6 N·m·s/rad (mechanical time constant Jeq/B = 0.1 s for Y), design choice.
-/// - Tc = 1.406e-5 N·m and Tp = 2.5e-6 N·m (0.59 and 0.10 mA × Kc), the same on both axes (one motor, one
-///   bearing design), fitted to THESIS Tableau 3.1 (3-axis simulator, conventional controller): the shares of the
-///   contour points within 10, 20 and 30 µm for recipes 1–3, residual (ours − thesis)/3 points, on a 2 × 2 block of
-///   the square job (scripts/fit_servo_friction.py; grid then pattern search). The THESIS identified this friction
-///   law from KM0 ramps (§2.2.1, Fig. 2.18/2.19) but prints no value. The share under 10 µm is a threshold
-///   figure: the axis at rest along a contour side keeps a static error ∝ Tc until the speed integrator takes it
-///   up, and the share falls by ~7 points per +10 % of Tc (and of Tiω), ~1 point per +10 % of Tp or B; the shares
-///   under 20 and 30 µm and the fill rates move by < 0.1 point. Before the fit: Tp = 1e-5, Tc = 3e-5 (guesses).
+/// - Tc = 1.206e-5 N·m (0.50 mA × Kc) and Tp = 1.0e-6 N·m, the same on both axes (one motor, one bearing
+///   design): Tc fitted to THESIS Tableau 3.1 (3-axis simulator, conventional controller), the shares of the
+///   contour points within 10, 20 and 30 µm for recipes 1–3 on the whole square-job layers, residual
+///   (ours − thesis)/3 points (scripts/fit_servo_friction.py, pattern search; README "Servo friction fitted to
+///   Tableau 3.1"). The THESIS identified this friction law from KM0 ramps (§2.2.1, Fig. 2.18/2.19) but prints no
+///   value. The share under 10 µm is a threshold figure: an axis at rest along a contour side keeps a static error
+///   ∝ Tc until the speed integrator takes it up; the share falls by 3.3 points per +10 % of Tc (3.1 per +10 % of
+///   Tiω, 0.15 per +10 % of B), the shares under 20 and 30 µm and the fill rates by < 0.1. Tp is not identified
+///   by these figures (no change over ±20 %): it is kept small. Before the fit: Tc = 3e-5, Tp = 1e-5 (guesses).
 /// - Flexible mode: ξr = 0.02 (lightly damped mirror torsion), ωres/2π = 5.5 kHz (Y, larger
 ///   mirror) and 7.5 kHz (X), Kr = 2 ξr Kc/Jeq so that at ωres the mode's |ω/i| equals the rigid
 ///   one's (a +6 dB resonance on the rigid line), design choices.
