@@ -21,7 +21,8 @@ What is fitted, on which data, with which residual:
 
 Run from the repository (after scripts/build.sh), ~20 minutes on 2 cores (each parameter point runs the
 three layers, 1 minute of CPU):
-  /usr/bin/python3 scripts/fit_servo_friction.py [--scanhead-run PATH] [--rows 15 --columns 20] [--out FIT.yaml]
+  /usr/bin/python3 scripts/fit_servo_friction.py [--scanhead-run PATH] [--config FILE] [--rows 15 --columns 20]
+      [--out FIT.yaml] [--evaluate-only: the configured friction against the table, 3 runs, ~1 minute]
 """
 import argparse
 import os
@@ -62,7 +63,8 @@ def figures(run, recipe, params, args, tiw_defaults):
     """(<10, <20, <30, fill) in % for one recipe at one parameter point."""
     folder = tempfile.mkdtemp(prefix="fit_friction_")
     try:
-        command = [run, "--job", "squares:recipe=%d,rows=%d,columns=%d" % (recipe, args.rows, args.columns),
+        command = [run, "--config", args.config, "--job",
+                   "squares:recipe=%d,rows=%d,columns=%d" % (recipe, args.rows, args.columns),
                    "--set", "recipe.preset=thesis%d" % recipe, "--set", "stream.threads=1", "--set",
                    "energy.pixel_m=3.5e-5", "--plots", "none",
                    "--quiet", "--out", os.path.join(folder, "r")] + settings_of(params)
@@ -124,23 +126,33 @@ def read_defaults(config_path):
 def table(result):
     lines = ["recipe | <10 µm ours / thesis | <20 µm | <30 µm | fill rate"]
     for r in (1, 2, 3):
-        cells = ["%6.2f / %6.2f (%+5.2f)" % (result[r][i], THESIS[r][i], result[r][i] - THESIS[r][i]) for i in range(4)]
+        cells = []
+        for i in range(4):
+            deviation = result[r][i] - THESIS[r][i]
+            outside = abs(deviation) > (FILL_TOLERANCE if i == 3 else CONTOUR_TOLERANCE)
+            cells.append("%6.2f / %6.2f (%+5.2f)%s" % (result[r][i], THESIS[r][i], deviation, "*" if outside else " "))
         lines.append("%d      | %s" % (r, " | ".join(cells)))
+    lines.append("* outside the tolerance (contours ±%.0f, fill ±%.0f points)" % (CONTOUR_TOLERANCE, FILL_TOLERANCE))
     return "\n".join(lines)
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--scanhead-run", default=None, help="the scanhead_run binary (default: the build's)")
-    parser.add_argument("--config", default=None, help="config/scanhead.yaml (for the defaults of B and T_iω)")
+    parser.add_argument("--config", default=None, help="configuration YAML (default: the repository's config/scanhead.yaml)")
     parser.add_argument("--rows", type=int, default=15, help="rows of squares (default 15: the THESIS layer)")
     parser.add_argument("--columns", type=int, default=20, help="columns of squares (default 20)")
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="scanhead_run processes at once")
     parser.add_argument("--out", default=None, help="write the fit (parameters, figures, sensitivities) as YAML here")
+    parser.add_argument("--evaluate-only", action="store_true",
+                        help="only the configured friction against the table (3 runs), no search, no sensitivities")
     args = parser.parse_args()
     run = args.scanhead_run or find_scanhead_run()
+    if not (os.path.isfile(run) and os.access(run, os.X_OK)):
+        sys.exit("fit_servo_friction: --scanhead-run %s is not an executable file (build: scripts/build.sh)" % run)
     here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    defaults = read_defaults(args.config or os.path.join(here, "config", "scanhead.yaml"))
+    args.config = args.config or os.path.join(here, "config", "scanhead.yaml")
+    defaults = read_defaults(args.config)
     model = Model(run, args, {axis: defaults[axis]["tiw_s"] for axis in AXES})
 
     # 1. Start from the configured values (both axes equal: the fit keeps them equal).
@@ -150,6 +162,9 @@ def main():
           flush=True)
     best_cost = cost(model.evaluate(point))
     print("  cost %.3f" % best_cost, flush=True)
+    if args.evaluate_only:
+        print(table(model.evaluate(point)))
+        return 0
 
     # 2. Pattern search: move to the best neighbour, else halve the steps, until they are below 0.1e-6 N·m
     #    (0.7 % of T_C: ~0.5 point of the share under 10 µm).
