@@ -18,8 +18,8 @@
 #include "scanhead/optics/influence_map.hpp"
 #include "scanhead/optics/optical_defects.hpp"
 #include "support/command_line.hpp"
-#include "support/tool_errors.hpp"
 #include "support/python_plots.hpp"
+#include "support/tool_errors.hpp"
 
 namespace
 {
@@ -41,8 +41,6 @@ struct Arguments
 /// Most grid points per axis (--grid): N² spots, each a forward model, N² × 18 for influence; the
 /// calibration's least-squares fit works on 2N² residuals.
 constexpr int kMaxGrid = 201;
-/// Most probes per axis (residual --probes, as scanhead_table --probes): P² table lookups.
-constexpr int kMaxProbes = 2049;
 
 /// \brief The command and its options into \p a. \return false after --help
 bool parse(int argc, char** argv, Arguments& a)
@@ -88,7 +86,7 @@ bool parse(int argc, char** argv, Arguments& a)
       ->transform(check::integerAtLeast(2));
   residual->add_option("--probes", a.probes, "probes per axis, 2 to 2049 (default 129)")
       ->type_name("P")
-      ->transform(check::integerIn(2, kMaxProbes));
+      ->transform(check::integerIn(2, check::kMaxProbesPerAxis));
   residual->add_option("--interpolation", a.interpolation, "default: nc.igt.table_interpolation")
       ->type_name("bilinear|bicubic");
   CLI::App* influence =

@@ -26,9 +26,6 @@ struct Arguments
   scanhead::ConfigArguments config;
 };
 
-/// Most probes per axis (--probes).
-constexpr int kMaxProbes = 2049;
-
 /// \brief The options into \p a. \return false after --help
 bool parse(int argc, char** argv, Arguments& a)
 {
@@ -50,10 +47,9 @@ bool parse(int argc, char** argv, Arguments& a)
                  "nominal | opt_table2 (OPT table 2) | random:seed=N[,mm=B][,mrad=B] | a defect set\n"
                  "file (.yaml) (default: the config's optics.defects, nominal)")
       ->type_name("SET");
-  // P² probes, each a table lookup and a forward model (~1 µs): 2049² ≈ 4.2 M probes, a few seconds.
   app.add_option("--probes", a.probes, "probes per axis, 2 to 2049 (default 257)")
       ->type_name("P")
-      ->transform(scanhead::check::integerIn(2, kMaxProbes));
+      ->transform(scanhead::check::integerIn(2, scanhead::check::kMaxProbesPerAxis));
   CLI::Option* save =
       app.add_option("--save", a.save, "write the built table (docs/correction_table.md)")->type_name("FILE");
   CLI::Option* load =

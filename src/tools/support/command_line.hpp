@@ -86,6 +86,10 @@ inline CLI::Validator integerAtLeast(int minimum)
       "INT>=" + std::to_string(minimum));
 }
 
+/// \brief Most probes per axis of a correction-table check (scanhead_table --probes, scanhead_optics residual
+/// --probes): P² probes, each a table lookup and a forward model (~1 µs): 2049² ≈ 4.2 M probes, a few seconds.
+constexpr int kMaxProbesPerAxis = 2049;
+
 /// \brief An integer in [\p minimum, \p maximum] (grid and probe counts whose work grows as their square).
 inline CLI::Validator integerIn(int minimum, int maximum)
 {
