@@ -34,6 +34,12 @@ fs::path normalised(const std::string& text)
   return ec ? path : real;
 }
 
+/// `<parent>/.<name>.lock` of a folder already normalised.
+fs::path lockFileBeside(const fs::path& normalised_folder)
+{
+  return normalised_folder.parent_path() / ("." + normalised_folder.filename().string() + ".lock");
+}
+
 std::string hostName()
 {
   char name[256] = {};
@@ -98,8 +104,7 @@ std::string readAll(int fd)
 
 fs::path FolderLock::lockFileOf(const fs::path& folder)
 {
-  const fs::path path = normalised(folder.string());
-  return path.parent_path() / ("." + path.filename().string() + ".lock");
+  return lockFileBeside(normalised(folder.string()));
 }
 
 std::string FolderLock::holderOf(const fs::path& folder)
@@ -126,7 +131,8 @@ FolderLock::FolderLock(const std::string& folder_text)
   if (ec)
     throw InputError(parent.string() + ": cannot create (" + ec.message() + ")");
   created_ = missing;
-  const fs::path file = lockFileOf(folder_);
+  lock_file_ = lockFileBeside(folder_);
+  const fs::path& file = lock_file_;
   for (int attempt = 0;; ++attempt)
   {
     const int fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
@@ -197,6 +203,7 @@ FolderLock::~FolderLock()
 
 FolderLock::FolderLock(FolderLock&& other) noexcept
   : folder_(std::move(other.folder_))
+  , lock_file_(std::move(other.lock_file_))
   , created_(std::move(other.created_))
   , fd_(other.fd_)
 {
@@ -210,6 +217,7 @@ FolderLock& FolderLock::operator=(FolderLock&& other) noexcept
   {
     release();
     folder_ = std::move(other.folder_);
+    lock_file_ = std::move(other.lock_file_);
     created_ = std::move(other.created_);
     fd_ = other.fd_;
     other.fd_ = -1;
@@ -223,7 +231,7 @@ void FolderLock::release() noexcept
   std::error_code ec;
   if (fd_ >= 0)
   {
-    ::unlink(lockFileOf(folder_).c_str());  // while still held: see the file comment
+    ::unlink(lock_file_.c_str());  // while still held: see the file comment
     ::close(fd_);
     fd_ = -1;
   }

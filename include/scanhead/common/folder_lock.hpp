@@ -59,7 +59,8 @@ private:
   void release() noexcept;
 
   std::filesystem::path folder_;
-  std::filesystem::path created_;  ///< the outermost parent folder this lock created, or empty
+  std::filesystem::path lock_file_;  ///< lockFileOf(folder_), resolved once
+  std::filesystem::path created_;    ///< the outermost parent folder this lock created, or empty
   int fd_ = -1;
 };
 }  // namespace scanhead
