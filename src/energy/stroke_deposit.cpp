@@ -169,12 +169,6 @@ StrokeDeposit::StrokeDeposit(const EnergyConfig& config)
 {
 }
 
-void StrokeDeposit::deposit(TiledEnergyMap& map, const Stroke& stroke, double& outside_j)
-{
-  weigh(map, stroke, scratch_);
-  apply(map, scratch_, outside_j);
-}
-
 void StrokeDeposit::weigh(const TiledEnergyMap& map, const Stroke& stroke, StrokeWeights& out) const
 {
   out.energy_j = stroke.energy();

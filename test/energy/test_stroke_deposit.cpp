@@ -178,8 +178,10 @@ TEST(StrokeDeposit, RowsEqualTheClosedForm)
         stroke.footprint = fp;
         scanhead::TiledEnergyMap map(Eigen::Vector2d(-0.2e-3, -0.2e-3), Eigen::Vector2d(1.3e-3, 1.3e-3), p, 1u << 24);
         scanhead::StrokeDeposit deposit(cfg);
+        scanhead::StrokeWeights weights;
         double outside = 0.0;
-        deposit.deposit(map, stroke, outside);
+        deposit.weigh(map, stroke, weights);
+        deposit.apply(map, weights, outside);
         EXPECT_EQ(outside, 0.0);
         EXPECT_NEAR(map.totalEnergy(), stroke.energy(), 1e-6 * stroke.energy());
         const SegmentIntegral si(fp, stroke.displacement());

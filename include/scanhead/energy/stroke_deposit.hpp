@@ -51,8 +51,6 @@ class StrokeDeposit
 {
 public:
   explicit StrokeDeposit(const EnergyConfig& config);
-  /// \brief Deposits \p stroke on \p map; adds the energy drawn off the map to \p outside_j [J] (weigh, then apply).
-  void deposit(TiledEnergyMap& map, const Stroke& stroke, double& outside_j);
   /// \brief The weights of \p stroke on \p map's grid into \p out. Reads only the map's geometry (origin, pixel, size)
   /// and changes nothing here: any number of threads may weigh at once, each into its own \p out.
   void weigh(const TiledEnergyMap& map, const Stroke& stroke, StrokeWeights& out) const;
@@ -63,7 +61,6 @@ public:
 
 private:
   EnergyConfig config_;
-  StrokeWeights scratch_;  ///< deposit()'s
   std::uint64_t pixels_ = 0;
 };
 }  // namespace scanhead
