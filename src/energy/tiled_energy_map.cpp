@@ -2,13 +2,8 @@
 /// \brief Sparse tiled energy map with a bounded cache and a spill file.
 #include "scanhead/energy/tiled_energy_map.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
 #include <sstream>
 
 #include "scanhead/common/errors.hpp"
@@ -18,13 +13,18 @@ namespace scanhead
 namespace
 {
 constexpr std::int64_t kTilePixels = static_cast<std::int64_t>(TiledEnergyMap::kTileSide) * TiledEnergyMap::kTileSide;
-constexpr std::size_t kTileBytes = static_cast<std::size_t>(kTilePixels) * sizeof(float);
+constexpr std::size_t kTileBytes = TiledEnergyMap::kTileBytes;
 constexpr std::size_t kMinResidentTiles = 16;
+constexpr std::size_t kMaxBlockTiles = 64;  // 1 MiB blocks: a direct read at ~1 GB/s
+constexpr std::size_t kMaxBlocks = 32;
 
-std::string ioError(const std::string& what, const std::string& dir)
+/// \brief The spill file's block cache: an eighth of the budget, blocks of up to kMaxBlockTiles tiles.
+TileSpillFile spillFileFor(std::size_t cache_bytes, std::string dir)
 {
-  return "energy map: cannot " + what + " the tile spill file in " + dir + " (" + std::strerror(errno) +
-         "): check energy.spill_dir (or TMPDIR) and its free space, or raise energy.tile_cache_bytes";
+  const std::size_t share = cache_bytes / 8;
+  const std::size_t block_tiles = std::clamp<std::size_t>(share / kTileBytes, 1, kMaxBlockTiles);
+  const std::size_t blocks = std::clamp<std::size_t>(share / (block_tiles * kTileBytes), 1, kMaxBlocks);
+  return TileSpillFile(kTileBytes, block_tiles, blocks, std::move(dir));
 }
 }  // namespace
 
@@ -32,7 +32,7 @@ TiledEnergyMap::TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::V
                                std::size_t cache_bytes, std::string spill_dir)
   : origin_(min_corner)
   , pixel_(pixel_m)
-  , spill_dir_(std::move(spill_dir))
+  , spill_(spillFileFor(cache_bytes, std::move(spill_dir)))
 {
   checkMapGeometry(min_corner, max_corner, pixel_m);
   const double extent = std::max(max_corner.x() - min_corner.x(), max_corner.y() - min_corner.y());
@@ -53,15 +53,11 @@ TiledEnergyMap::TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::V
         << " tiles (limit 2^31): increase energy.pixel_m or reduce the job extent";
     throw ConfigError(msg.str());
   }
-  max_resident_ = std::max(kMinResidentTiles, cache_bytes / kTileBytes);
+  max_resident_ = std::max(kMinResidentTiles, (cache_bytes - cache_bytes / 8) / kTileBytes);
   slot_of_tile_.assign(static_cast<std::size_t>(tiles_x_ * tiles_y_), -1);
 }
 
-TiledEnergyMap::~TiledEnergyMap()
-{
-  if (spill_fd_ >= 0)
-    ::close(spill_fd_);
-}
+TiledEnergyMap::~TiledEnergyMap() = default;
 
 TiledEnergyMap::TiledEnergyMap(TiledEnergyMap&& other) noexcept
 {
@@ -72,8 +68,6 @@ TiledEnergyMap& TiledEnergyMap::operator=(TiledEnergyMap&& other) noexcept
 {
   if (this != &other)
   {
-    if (spill_fd_ >= 0)
-      ::close(spill_fd_);
     origin_ = other.origin_;
     pixel_ = other.pixel_;
     width_ = other.width_;
@@ -83,26 +77,26 @@ TiledEnergyMap& TiledEnergyMap::operator=(TiledEnergyMap&& other) noexcept
     max_resident_ = other.max_resident_;
     slot_of_tile_ = std::move(other.slot_of_tile_);
     slots_ = std::move(other.slots_);
+    slot_of_file_tile_ = std::move(other.slot_of_file_tile_);
+    spilled_summaries_ = std::move(other.spilled_summaries_);
     buffers_ = std::move(other.buffers_);
     free_buffers_ = std::move(other.free_buffers_);
     resident_ = other.resident_;
     peak_resident_ = other.peak_resident_;
     spilled_tiles_ = other.spilled_tiles_;
     clock_ = other.clock_;
-    spill_dir_ = std::move(other.spill_dir_);
-    spill_fd_ = other.spill_fd_;
-    spill_end_ = other.spill_end_;
+    spill_ = std::move(other.spill_);
     summary_valid_ = other.summary_valid_;
     total_ = other.total_;
     peak_ = other.peak_;
     // The source is left an empty map of no pixels (safe to read, nothing to free twice).
-    other.spill_fd_ = -1;
     other.width_ = other.height_ = other.tiles_x_ = other.tiles_y_ = 0;
     other.slot_of_tile_.clear();
     other.slots_.clear();
+    other.slot_of_file_tile_.clear();
+    other.spilled_summaries_.clear();
     other.free_buffers_.clear();
     other.resident_ = other.spilled_tiles_ = 0;
-    other.spill_end_ = 0;
     other.summary_valid_ = false;
     hot_tile_ = -1;
     other.hot_tile_ = -1;
@@ -110,56 +104,34 @@ TiledEnergyMap& TiledEnergyMap::operator=(TiledEnergyMap&& other) noexcept
   return *this;
 }
 
-std::string TiledEnergyMap::spillDir() const
-{
-  const char* tmpdir = std::getenv("TMPDIR");
-  return !spill_dir_.empty() ? spill_dir_ : tmpdir != nullptr && *tmpdir != '\0' ? tmpdir : "/tmp";
-}
-
-void TiledEnergyMap::spill(Slot& slot) const
-{
-  if (spill_fd_ < 0)
-  {
-    const std::string dir = spillDir();
-    std::string path = dir + "/scanhead_tiles_XXXXXX";
-    spill_fd_ = ::mkstemp(path.data());
-    if (spill_fd_ < 0)
-      throw InputError(ioError("create", dir));
-    ::unlink(path.c_str());  // the space is freed when the file is closed, even by a crash
-  }
-  if (slot.file_offset < 0)
-  {
-    slot.file_offset = spill_end_;
-    spill_end_ += static_cast<std::int64_t>(kTileBytes);
-    ++spilled_tiles_;
-  }
-  if (slot.dirty)  // a tile only read since it came back is already in the file
-  {
-    const ssize_t n = ::pwrite(spill_fd_, slot.data, kTileBytes, slot.file_offset);
-    if (n != static_cast<ssize_t>(kTileBytes))
-      throw InputError(ioError("write", spillDir()));
-    slot.dirty = false;
-  }
-  free_buffers_.push_back(slot.data);
-  slot.data = nullptr;
-  --resident_;
-}
-
 void TiledEnergyMap::load(Slot& slot) const
+{
+  bringBack(slot);
+  // Read-ahead: the file block just read holds tiles spilled with this one (neighbours in tile order), which a
+  // pass along the track asks for next; they come back now, from the cached block, at most a quarter of the cache
+  // (so the eviction that may make room for them never takes this tile, the newest but them).
+  const std::int64_t first = spill_.blockStart(slot.file_offset);
+  const std::int64_t end = std::min(spill_.bytes(), first + static_cast<std::int64_t>(spill_.blockBytes()));
+  std::size_t budget = max_resident_ / 4;
+  for (std::int64_t offset = first; offset < end && budget > 0; offset += static_cast<std::int64_t>(kTileBytes))
+  {
+    Slot& other = slots_[static_cast<std::size_t>(slot_of_file_tile_[fileTileOf(offset)])];
+    if (other.data != nullptr || other.file_offset != offset)
+      continue;
+    other.last_use = ++clock_;
+    bringBack(other);
+    --budget;
+  }
+}
+
+void TiledEnergyMap::bringBack(Slot& slot) const
 {
   makeRoom();
   slot.data = free_buffers_.back();
   free_buffers_.pop_back();
   ++resident_;
-  readSpilled(slot, slot.data);
+  spill_.read(slot.file_offset, slot.data);
   slot.dirty = false;
-}
-
-void TiledEnergyMap::readSpilled(const Slot& slot, float* to) const
-{
-  const ssize_t n = ::pread(spill_fd_, to, kTileBytes, slot.file_offset);
-  if (n != static_cast<ssize_t>(kTileBytes))
-    throw InputError(ioError("read", spillDir()));
 }
 
 void TiledEnergyMap::makeRoom() const
@@ -176,12 +148,41 @@ void TiledEnergyMap::makeRoom() const
     const std::size_t count = std::max<std::size_t>(1, resident.size() / 8);
     std::nth_element(resident.begin(), resident.begin() + static_cast<std::ptrdiff_t>(count - 1), resident.end(),
                      [](const Slot* a, const Slot* b) { return a->last_use < b->last_use; });
+    // In tile order: the tiles first spilled now get consecutive offsets in that order, so a later pass in tile
+    // order (or along the track) reads the file in long runs.
+    std::sort(resident.begin(), resident.begin() + static_cast<std::ptrdiff_t>(count),
+              [](const Slot* a, const Slot* b) { return a->tile < b->tile; });
+    std::vector<TileSpillFile::Pending> writes;
+    writes.reserve(count);
     for (std::size_t k = 0; k < count; ++k)
-      spill(*resident[k]);
+    {
+      Slot& slot = *resident[k];
+      if (slot.file_offset < 0)
+      {
+        slot.file_offset = spill_.allocate();
+        ++spilled_tiles_;
+        slot_of_file_tile_.push_back(static_cast<std::int32_t>(&slot - slots_.data()));
+        spilled_summaries_.emplace_back();
+      }
+      if (slot.dirty)  // a tile only read since it came back is already in the file, with its summary
+      {
+        writes.push_back({slot.file_offset, slot.data});
+        spilled_summaries_[fileTileOf(slot.file_offset)] = summariseTile(slot.data);
+      }
+    }
+    spill_.write(writes);
+    for (std::size_t k = 0; k < count; ++k)
+    {
+      Slot& slot = *resident[k];
+      slot.dirty = false;
+      free_buffers_.push_back(slot.data);
+      slot.data = nullptr;
+      --resident_;
+    }
   }
   if (free_buffers_.empty())
   {
-    buffers_.emplace_back(new float[kTilePixels]);
+    buffers_.push_back(allocateAligned(static_cast<std::size_t>(kTilePixels)));
     free_buffers_.push_back(buffers_.back().get());
   }
   peak_resident_ = std::max(peak_resident_, resident_ + 1);
@@ -205,6 +206,7 @@ float* TiledEnergyMap::residentTile(std::int64_t tile) const
   {
     makeRoom();
     Slot slot;
+    slot.tile = tile;
     slot.data = free_buffers_.back();
     free_buffers_.pop_back();
     std::fill(slot.data, slot.data + kTilePixels, 0.0f);
@@ -231,7 +233,7 @@ const float* TiledEnergyMap::tileForRead(std::int64_t tile, float* scratch) cons
   const Slot& slot = slots_[static_cast<std::size_t>(index)];
   if (slot.data != nullptr)
     return slot.data;
-  readSpilled(slot, scratch);
+  spill_.read(slot.file_offset, scratch);
   return scratch;
 }
 
@@ -264,38 +266,39 @@ void TiledEnergyMap::addRow(std::int64_t row, std::int64_t col, const float* x, 
   }
 }
 
-void TiledEnergyMap::forEachTile(const std::function<void(std::int64_t, std::int64_t, const float*)>& f) const
+TiledEnergyMap::TileSummary TiledEnergyMap::summariseTile(const float* data)
 {
-  std::vector<float> scratch(static_cast<std::size_t>(kTilePixels));
-  for (std::int64_t tile = 0; tile < tiles_x_ * tiles_y_; ++tile)
-  {
-    const float* data = tileForRead(tile, scratch.data());
-    if (data != nullptr)
-      f(tile % tiles_x_, tile / tiles_x_, data);
-  }
+  // Eight partial sums and maxima in a fixed order: deterministic, and the adds overlap.
+  TileSummary t;
+  float maxima[8] = {};
+  for (std::int64_t i = 0; i < kTilePixels; i += 8)
+    for (int k = 0; k < 8; ++k)
+    {
+      t.sums[k] += data[i + k];
+      maxima[k] = data[i + k] > maxima[k] ? data[i + k] : maxima[k];
+    }
+  for (const float m : maxima)
+    t.max = std::max(t.max, m);
+  return t;
 }
 
 void TiledEnergyMap::summarise() const
 {
-  // One pass over every tile (a whole layer's spill file is read once, not once per figure).
+  // Tile by tile in tile order; a spilled tile by the summary taken when it was written (no read of the file).
   double total = 0.0;
   float peak = 0.0f;
-  forEachTile([&](std::int64_t, std::int64_t, const float* data) {
-    // Eight partial sums and maxima in a fixed order: deterministic, and the adds overlap.
-    double sums[8] = {};
-    float maxima[8] = {};
-    for (std::int64_t i = 0; i < kTilePixels; i += 8)
-      for (int k = 0; k < 8; ++k)
-      {
-        sums[k] += data[i + k];
-        maxima[k] = data[i + k] > maxima[k] ? data[i + k] : maxima[k];
-      }
-    for (int k = 0; k < 8; ++k)
-    {
-      total += sums[k];
-      peak = std::max(peak, maxima[k]);
-    }
-  });
+  for (std::int64_t tile = 0; tile < tiles_x_ * tiles_y_; ++tile)
+  {
+    const std::int32_t index = slot_of_tile_[static_cast<std::size_t>(tile)];
+    if (index < 0)
+      continue;
+    const Slot& slot = slots_[static_cast<std::size_t>(index)];
+    const TileSummary t =
+        slot.data != nullptr ? summariseTile(slot.data) : spilled_summaries_[fileTileOf(slot.file_offset)];
+    for (const double sum : t.sums)
+      total += sum;
+    peak = std::max(peak, t.max);
+  }
   total_ = total * pixel_ * pixel_;
   peak_ = peak;
   summary_valid_ = true;
@@ -325,7 +328,9 @@ void TiledEnergyMap::clear()
   hot_tile_ = -1;
   resident_ = 0;
   spilled_tiles_ = 0;
-  spill_end_ = 0;
+  spill_.clear();
+  slot_of_file_tile_.clear();
+  spilled_summaries_.clear();
   summary_valid_ = false;
 }
 
@@ -384,6 +389,8 @@ int TiledEnergyMap::blockFactor(std::int64_t w, std::int64_t h, int max_side)
 
 std::size_t TiledEnergyMap::peakResidentBytes() const
 {
-  return peak_resident_ * kTileBytes + slot_of_tile_.size() * sizeof(std::int32_t) + slots_.capacity() * sizeof(Slot);
+  return peak_resident_ * kTileBytes + spill_.cacheBytes() + slot_of_tile_.size() * sizeof(std::int32_t) +
+         slots_.capacity() * sizeof(Slot) + slot_of_file_tile_.capacity() * sizeof(std::int32_t) +
+         spilled_summaries_.capacity() * sizeof(TileSummary);
 }
 }  // namespace scanhead

@@ -66,8 +66,14 @@ TEST(TiledEnergyMap, SpillsLeaveTheValuesBitIdentical)
   EXPECT_EQ(large.map().tilesSpilled(), 0u);
   EXPECT_EQ(small.map().tilesTouched(), large.map().tilesTouched());
   EXPECT_TRUE(small.map().toDense().data() == large.map().toDense().data());
-  EXPECT_EQ(small.map().totalEnergy(), large.map().totalEnergy());
+  EXPECT_EQ(small.map().totalEnergy(), large.map().totalEnergy());  // spilled tiles by their summaries
   EXPECT_EQ(small.map().peak(), large.map().peak());
+  // Point reads bring spilled tiles back with their neighbours in the file (read-ahead): column by column, against
+  // the file's tile order, so tiles are brought back, evicted and brought back again.
+  for (std::int64_t c = 0; c < small.map().width(); c += 13)
+    for (std::int64_t r = 0; r < small.map().height(); r += 11)
+      ASSERT_EQ(small.map().at(c, r), large.map().at(c, r)) << c << ", " << r;
+  EXPECT_GT(small.map().spillFile().blockReads(), 10u);
   // Resident memory stays within the cache (64 tiles of 16 KiB) plus the directory and slot table.
   EXPECT_LE(small.map().peakResidentBytes(), (1u << 20) + 64 * 1024);
   // Energy conserved through the spills: deposited = Σ P·Ts within float rounding.

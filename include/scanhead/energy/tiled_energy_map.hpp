@@ -6,12 +6,12 @@
 
 #include <Eigen/Core>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "scanhead/energy/energy_map.hpp"
+#include "scanhead/energy/tile_spill_file.hpp"
 
 namespace scanhead
 {
@@ -20,18 +20,19 @@ namespace scanhead
 ///
 /// Pixels live in tiles of kTileSide² floats (tile (ti, tj) holds columns [ti·S, ti·S + S) and rows
 /// [tj·S, tj·S + S)). A dense directory maps each tile to its slot (4 B per tile: 4.8 MB for a
-/// 350 mm field at 5 µm). At most cache_bytes of tiles are resident; when full, the oldest eighth
-/// (by last use) is written to a temporary file (created in the spill folder and unlinked at once, so
-/// the system frees it whatever happens to the process) and read back when touched again. Values never depend on what
-/// was spilled: the same deposits give the same floats, bit for bit. Reading methods are const but may load tiles (the
-/// cache is mutable). Move-only (it owns the spill file).
+/// 350 mm field at 5 µm). At most cache_bytes of tiles and spill-file blocks are resident: when the tiles' share
+/// (7/8) is full, the oldest eighth (by last use) is written to a TileSpillFile in one batch, in tile order at
+/// consecutive offsets, and read back through its block cache (the other 1/8, blocks of up to 64 tiles) when touched
+/// again. Values never depend on what was spilled: the same deposits give the same floats, bit for bit. Reading
+/// methods are const but may load tiles (the cache is mutable). Move-only (it owns the spill file).
 class TiledEnergyMap
 {
 public:
   static constexpr int kTileSide = 64;  ///< tile side [pixels]: 16 KiB of floats, 0.32 mm at 5 µm
+  static constexpr std::size_t kTileBytes = sizeof(float) * kTileSide * kTileSide;
 
   /// \brief A map covering [min_corner, max_corner] (width = max(1, ceil(extent/pixel)), as EnergyMap).
-  /// \param[in] cache_bytes resident tiles at most (≥ 16 tiles are always allowed)
+  /// \param[in] cache_bytes resident tiles and spill-file blocks at most (≥ 16 tiles and one block are always allowed)
   /// \param[in] spill_dir   folder of the spill file; "": $TMPDIR, else /tmp
   /// \throws ConfigError if pixel_m is not > 0 or the tile directory would exceed 2^31 tiles
   /// \throws InputError if the corners are not finite or max < min
@@ -72,18 +73,16 @@ public:
   /// \brief The whole map dense (small maps, tests). \throws ConfigError beyond 2^31 pixels
   EnergyMap toDense() const { return region(0, 0, width_, height_); }
 
-  /// \brief Calls f(tile_col, tile_row, data) for every touched tile in tile order (row-major);
-  /// data: kTileSide² floats, row-major (pixels beyond the map's edge are 0).
-  void forEachTile(const std::function<void(std::int64_t, std::int64_t, const float*)>& f) const;
-
   std::size_t tilesTouched() const { return slots_.size(); }
   std::size_t tilesSpilled() const { return spilled_tiles_; }  ///< tiles that were written to the file at least once
-  std::size_t peakResidentBytes() const;  ///< largest memory the tiles and the directory held [bytes]
-  std::size_t spillFileBytes() const { return static_cast<std::size_t>(spill_end_); }
+  std::size_t peakResidentBytes() const;  ///< largest memory the tiles, the file's block cache and the directory held [bytes]
+  std::size_t spillFileBytes() const { return static_cast<std::size_t>(spill_.bytes()); }
+  const TileSpillFile& spillFile() const { return spill_; }
 
 private:
   struct Slot
   {
+    std::int64_t tile = 0;          ///< its index in the directory
     std::int64_t file_offset = -1;  ///< where the tile lives in the spill file (-1: never spilled)
     std::uint64_t last_use = 0;
     float* data = nullptr;  ///< resident buffer, or nullptr when spilled
@@ -93,11 +92,17 @@ private:
   float* residentTile(std::int64_t tile) const;
   const float* tileForRead(std::int64_t tile, float* scratch) const;
   void makeRoom() const;
+  /// \brief Σ and max of one tile's pixels, as summarise() combines them.
+  struct TileSummary
+  {
+    double sums[8] = {};  ///< lane k: Σ of pixels i ≡ k (mod 8), in pixel order
+    float max = 0.0f;
+  };
+  static TileSummary summariseTile(const float* data);
   void summarise() const;
-  std::string spillDir() const;  ///< energy.spill_dir, else $TMPDIR, else /tmp
-  void spill(Slot& slot) const;
-  void load(Slot& slot) const;
-  void readSpilled(const Slot& slot, float* to) const;
+  void load(Slot& slot) const;      ///< a spilled tile back, with its neighbours in the file
+  void bringBack(Slot& slot) const;  ///< a spilled tile back
+  static std::size_t fileTileOf(std::int64_t offset) { return static_cast<std::size_t>(offset) / kTileBytes; }
 
   Eigen::Vector2d origin_;
   double pixel_ = 0.0;
@@ -105,13 +110,13 @@ private:
   std::size_t max_resident_ = 0;
   mutable std::vector<std::int32_t> slot_of_tile_;  ///< -1: untouched
   mutable std::vector<Slot> slots_;
-  mutable std::vector<std::unique_ptr<float[]>> buffers_;  ///< every resident buffer ever allocated
+  mutable std::vector<std::int32_t> slot_of_file_tile_;     ///< slot of each tile of the spill file, by offset
+  mutable std::vector<TileSummary> spilled_summaries_;     ///< each spilled tile's summary as last written
+  mutable std::vector<AlignedFloats> buffers_;  ///< every resident buffer ever allocated
   mutable std::vector<float*> free_buffers_;
   mutable std::size_t resident_ = 0, peak_resident_ = 0, spilled_tiles_ = 0;
   mutable std::uint64_t clock_ = 0;
-  std::string spill_dir_;
-  mutable int spill_fd_ = -1;
-  mutable std::int64_t spill_end_ = 0;
+  mutable TileSpillFile spill_;
   mutable std::int64_t hot_tile_ = -1;  ///< the tile last returned (a stencil's rows hit 1–4 tiles)
   mutable std::size_t hot_slot_ = 0;
   mutable float* hot_data_ = nullptr;   ///< valid until the next makeRoom()
