@@ -17,6 +17,7 @@ constexpr std::size_t kTileBytes = TiledEnergyMap::kTileBytes;
 constexpr std::size_t kMinResidentTiles = 16;
 constexpr std::size_t kMaxBlockTiles = 64;  // 1 MiB blocks: a direct read at ~1 GB/s
 constexpr std::size_t kMaxBlocks = 32;
+constexpr std::size_t kSlabTiles = 16;  // tile buffers allocated 16 at a time (256 KiB)
 
 /// \brief The spill file's block cache: an eighth of the budget, blocks of up to kMaxBlockTiles tiles.
 TileSpillFile spillFileFor(std::size_t cache_bytes, std::string dir)
@@ -80,6 +81,7 @@ TiledEnergyMap& TiledEnergyMap::operator=(TiledEnergyMap&& other) noexcept
     slot_of_file_tile_ = std::move(other.slot_of_file_tile_);
     spilled_summaries_ = std::move(other.spilled_summaries_);
     buffers_ = std::move(other.buffers_);
+    allocated_tiles_ = other.allocated_tiles_;
     free_buffers_ = std::move(other.free_buffers_);
     resident_ = other.resident_;
     peak_resident_ = other.peak_resident_;
@@ -182,8 +184,13 @@ void TiledEnergyMap::makeRoom() const
   }
   if (free_buffers_.empty())
   {
-    buffers_.push_back(allocateAligned(static_cast<std::size_t>(kTilePixels)));
-    free_buffers_.push_back(buffers_.back().get());
+    // Slabs of tiles: one aligned allocation a tile would waste up to an alignment (4 KiB) each.
+    const std::size_t tiles =
+        std::clamp<std::size_t>(max_resident_ + 1 - allocated_tiles_, 1, kSlabTiles);
+    buffers_.push_back(allocateAligned(tiles * static_cast<std::size_t>(kTilePixels)));
+    for (std::size_t k = 0; k < tiles; ++k)
+      free_buffers_.push_back(buffers_.back().get() + k * static_cast<std::size_t>(kTilePixels));
+    allocated_tiles_ += tiles;
   }
   peak_resident_ = std::max(peak_resident_, resident_ + 1);
 }
@@ -391,6 +398,6 @@ std::size_t TiledEnergyMap::peakResidentBytes() const
 {
   return peak_resident_ * kTileBytes + spill_.cacheBytes() + slot_of_tile_.size() * sizeof(std::int32_t) +
          slots_.capacity() * sizeof(Slot) + slot_of_file_tile_.capacity() * sizeof(std::int32_t) +
-         spilled_summaries_.capacity() * sizeof(TileSummary);
+         spilled_summaries_.size() * sizeof(TileSummary);
 }
 }  // namespace scanhead

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -111,8 +112,9 @@ private:
   mutable std::vector<std::int32_t> slot_of_tile_;  ///< -1: untouched
   mutable std::vector<Slot> slots_;
   mutable std::vector<std::int32_t> slot_of_file_tile_;     ///< slot of each tile of the spill file, by offset
-  mutable std::vector<TileSummary> spilled_summaries_;     ///< each spilled tile's summary as last written
-  mutable std::vector<AlignedFloats> buffers_;  ///< every resident buffer ever allocated
+  mutable std::deque<TileSummary> spilled_summaries_;  ///< each spilled tile's summary as last written (no regrowth copy)
+  mutable std::vector<AlignedFloats> buffers_;  ///< slabs of tile buffers, every one ever allocated
+  mutable std::size_t allocated_tiles_ = 0;     ///< tile buffers in the slabs
   mutable std::vector<float*> free_buffers_;
   mutable std::size_t resident_ = 0, peak_resident_ = 0, spilled_tiles_ = 0;
   mutable std::uint64_t clock_ = 0;
