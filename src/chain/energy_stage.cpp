@@ -252,8 +252,20 @@ RunMetrics EnergyStage::finish()
   m.laser_misplaced_energy_j = settling.early_energy_j + settling.late_energy_j;
   m.laser_off_path_samples = placement_.counts().off_path_samples;
   m.laser_max_off_path_m = placement_.counts().max_distance_m;
-  const TrackEnergyProfile track =
-      trackEnergyProfile(accumulator_.map(), track_, config_.energy.track_exclude_ends_m, &mark_ends_);
+  // The corner peaks are served by the tiles the track's pass reads anyway (one read of a spill file, not two).
+  std::vector<Eigen::Vector2d> corner_points;
+  std::vector<double> corner_radii;
+  for (const CornerReport& c : m.corners)
+  {
+    // The actual path cuts the corner: look as far as it passed from it, plus a spot radius.
+    const double cut = std::isfinite(c.actual.max_contour_error_m) ? c.actual.max_contour_error_m : 0.0;
+    corner_points.push_back(c.corner.point);
+    corner_radii.push_back(cut + 0.5 * config_.energy.spot_diameter_m);
+  }
+  TrackEnergyProfile track;
+  const std::vector<double> corner_peaks = peaksNear(accumulator_.map(), corner_points, corner_radii, [&] {
+    track = trackEnergyProfile(accumulator_.map(), track_, config_.energy.track_exclude_ends_m, &mark_ends_);
+  });
   m.track_measured = track.interior_samples > 0;
   m.track_median_jpm2 = track.median_jpm2;
   m.track_mean_jpm2 = track.mean_jpm2;
@@ -263,11 +275,10 @@ RunMetrics EnergyStage::finish()
   m.track_peak_point_m = track.peak_point_m;
   m.track_stride = track_stride_;
   double ratio_sum = 0.0;
-  for (CornerReport& c : m.corners)
+  for (std::size_t i = 0; i < m.corners.size(); ++i)
   {
-    // The actual path cuts the corner: look as far as it passed from it, plus a spot radius.
-    const double cut = std::isfinite(c.actual.max_contour_error_m) ? c.actual.max_contour_error_m : 0.0;
-    c.energy_peak_jpm2 = peakNear(accumulator_.map(), c.corner.point, cut + 0.5 * config_.energy.spot_diameter_m);
+    CornerReport& c = m.corners[i];
+    c.energy_peak_jpm2 = corner_peaks[i];
     if (track.mean_jpm2 > 0.0)
     {
       const double ratio = c.energy_peak_jpm2 / track.mean_jpm2;

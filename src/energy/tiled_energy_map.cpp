@@ -102,6 +102,7 @@ TiledEnergyMap& TiledEnergyMap::operator=(TiledEnergyMap&& other) noexcept
     other.summary_valid_ = false;
     hot_tile_ = -1;
     other.hot_tile_ = -1;
+    observer_ = std::move(other.observer_);
   }
   return *this;
 }
@@ -134,6 +135,8 @@ void TiledEnergyMap::bringBack(Slot& slot) const
   ++resident_;
   spill_.read(slot.file_offset, slot.data);
   slot.dirty = false;
+  if (observer_)
+    observer_(slot.tile, slot.data);
 }
 
 void TiledEnergyMap::makeRoom() const

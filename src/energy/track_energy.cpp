@@ -208,4 +208,85 @@ double peakNear(const TiledEnergyMap& map, const Eigen::Vector2d& point, double 
     }
   return peak;
 }
+
+std::vector<double> peaksNear(const TiledEnergyMap& map, const std::vector<Eigen::Vector2d>& points,
+                              const std::vector<double>& radii_m, const std::function<void()>& during)
+{
+  // Each disc as in peakNear: the pixel holding the point, and the pixels whose centre lies within r.
+  struct Disc
+  {
+    double u = 0.0, v = 0.0, r = 0.0;
+    std::int64_t col0 = 0, col1 = 0, row0 = 0, row1 = 0, point_col = 0, point_row = 0;
+  };
+  const double p = map.pixel();
+  const std::int64_t side = TiledEnergyMap::kTileSide;
+  std::vector<Disc> discs(points.size());
+  std::vector<std::pair<std::int64_t, std::uint32_t>> owed;  // (tile, disc), sorted by tile
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    Disc& d = discs[i];
+    d.u = (points[i].x() - map.origin().x()) / p;
+    d.v = (points[i].y() - map.origin().y()) / p;
+    d.r = radii_m[i] / p;
+    d.point_col = static_cast<std::int64_t>(std::floor(d.u));
+    d.point_row = static_cast<std::int64_t>(std::floor(d.v));
+    d.col0 = std::min(d.point_col, static_cast<std::int64_t>(std::floor(d.u - d.r - 0.5)));
+    d.col1 = std::max(d.point_col, static_cast<std::int64_t>(std::ceil(d.u + d.r)));
+    d.row0 = std::min(d.point_row, static_cast<std::int64_t>(std::floor(d.v - d.r - 0.5)));
+    d.row1 = std::max(d.point_row, static_cast<std::int64_t>(std::ceil(d.v + d.r)));
+    // Pixels off the map read 0 and E ≥ 0: only the tiles on the map count.
+    const std::int64_t c0 = std::max<std::int64_t>(0, d.col0), c1 = std::min(map.width() - 1, d.col1);
+    const std::int64_t r0 = std::max<std::int64_t>(0, d.row0), r1 = std::min(map.height() - 1, d.row1);
+    for (std::int64_t tr = r0 / side; r0 <= r1 && tr <= r1 / side; ++tr)
+      for (std::int64_t tc = c0 / side; c0 <= c1 && tc <= c1 / side; ++tc)
+        owed.emplace_back(tr * map.tilesAcross() + tc, static_cast<std::uint32_t>(i));
+  }
+  std::sort(owed.begin(), owed.end());
+  std::vector<double> peaks(points.size(), 0.0);
+  std::vector<char> served(owed.size(), 0);
+  auto serve = [&](std::int64_t tile, const float* data) {
+    auto it = std::lower_bound(owed.begin(), owed.end(), std::make_pair(tile, std::uint32_t{0}));
+    const std::int64_t tr = tile / map.tilesAcross(), tc = tile % map.tilesAcross();
+    for (; it != owed.end() && it->first == tile; ++it)
+    {
+      char& done = served[static_cast<std::size_t>(it - owed.begin())];
+      if (done)
+        return;  // a tile brought back again: its discs were served the first time
+      done = 1;
+      const Disc& d = discs[it->second];
+      double& peak = peaks[it->second];
+      const std::int64_t r0 = std::max(d.row0, tr * side), r1 = std::min(d.row1, tr * side + side - 1);
+      const std::int64_t c0 = std::max(d.col0, tc * side), c1 = std::min(d.col1, tc * side + side - 1);
+      for (std::int64_t row = r0; row <= r1; ++row)
+        for (std::int64_t col = c0; col <= c1; ++col)
+        {
+          const double dx = static_cast<double>(col) + 0.5 - d.u, dy = static_cast<double>(row) + 0.5 - d.v;
+          if (dx * dx + dy * dy <= d.r * d.r || (col == d.point_col && row == d.point_row))
+            peak = std::max(peak, static_cast<double>(data[(row - tr * side) * side + (col - tc * side)]));
+        }
+    }
+  };
+  map.observeBroughtBack(serve);
+  try
+  {
+    during();
+  }
+  catch (...)
+  {
+    map.observeBroughtBack(nullptr);
+    throw;
+  }
+  map.observeBroughtBack(nullptr);
+  // The tiles still owed (resident all along, or not on the pass's way), in tile order.
+  std::vector<float> scratch(static_cast<std::size_t>(side * side));
+  for (std::size_t k = 0; k < owed.size(); ++k)
+  {
+    if (served[k] || (k > 0 && owed[k].first == owed[k - 1].first))
+      continue;
+    const float* data = map.tileData(owed[k].first, scratch.data());
+    if (data != nullptr)
+      serve(owed[k].first, data);
+  }
+  return peaks;
+}
 }  // namespace scanhead

@@ -8,6 +8,7 @@
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/energy/energy_accumulator.hpp"
+#include "scanhead/energy/track_energy.hpp"
 
 using scanhead::EnergyAccumulator;
 using scanhead::EnergyConfig;
@@ -79,6 +80,52 @@ TEST(TiledEnergyMap, SpillsLeaveTheValuesBitIdentical)
   // Energy conserved through the spills: deposited = Σ P·Ts within float rounding.
   const double commanded = 200.0 * kTs * (path.samples.size());
   EXPECT_NEAR(small.map().totalEnergy(), commanded, 1e-6 * commanded);
+}
+
+// peaksNear (the corner peaks served by the tiles another pass brings back) gives peakNear's values bit for bit:
+// discs along and off the serpentine, some off the map, one on no touched tile, on a spilled map while a pass of point
+// reads brings tiles back, and with no pass at all.
+TEST(TiledEnergyMap, PeaksNearEqualPeakNear)
+{
+  const SpotChunk path = serpentine(4);
+  EnergyAccumulator acc(withCache(1 << 20), Eigen::Vector2d(-0.3e-3, -0.3e-3), Eigen::Vector2d(6.3e-3, 6.0e-3));
+  acc.process(path);
+  acc.finish();
+  const TiledEnergyMap& map = acc.map();
+  ASSERT_GT(map.tilesSpilled(), 100u);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> x(-0.5e-3, 6.5e-3), y(-0.5e-3, 6.2e-3), r(0.0, 80e-6);
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> radii;
+  for (int k = 0; k < 400; ++k)
+  {
+    points.emplace_back(x(rng), y(rng));
+    radii.push_back(r(rng));
+  }
+  points.emplace_back(-1.0, -1.0);  // far off the map
+  radii.push_back(50e-6);
+  std::vector<double> expected;
+  for (std::size_t k = 0; k < points.size(); ++k)
+    expected.push_back(scanhead::peakNear(map, points[k], radii[k]));
+  std::size_t brought_back = 0;
+  const std::vector<double> during_pass = scanhead::peaksNear(map, points, radii, [&] {
+    const std::uint64_t before = map.spillFile().blockReads();
+    for (std::int64_t c = 0; c < map.width(); c += 17)
+      for (std::int64_t row = 0; row < map.height(); row += 23)
+        (void)map.at(c, row);
+    brought_back = map.spillFile().blockReads() - before;
+  });
+  const std::vector<double> no_pass = scanhead::peaksNear(map, points, radii, [] {});
+  EXPECT_GT(brought_back, 10u);
+  EXPECT_EQ(expected.back(), 0.0);
+  std::size_t positive = 0;
+  for (std::size_t k = 0; k < points.size(); ++k)
+  {
+    ASSERT_EQ(during_pass[k], expected[k]) << k;
+    ASSERT_EQ(no_pass[k], expected[k]) << k;
+    positive += expected[k] > 0.0 ? 1 : 0;
+  }
+  EXPECT_GT(positive, 200u);
 }
 
 // Only visited tiles exist: a whole 350 mm field at 5 µm (4.9e9 pixels) with one spot costs its

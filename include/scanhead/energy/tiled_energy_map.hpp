@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -80,6 +81,15 @@ public:
   std::size_t spillFileBytes() const { return static_cast<std::size_t>(spill_.bytes()); }
   const TileSpillFile& spillFile() const { return spill_; }
 
+  std::int64_t tilesAcross() const { return tiles_x_; }  ///< tile columns (tile index = row · tilesAcross() + column)
+  /// \brief Tile \p tile's kTileSide² pixels (row-major; 0 beyond the map's edge), nullptr if untouched; a spilled
+  /// tile is read into \p scratch (kTileSide² floats) without entering the cache.
+  const float* tileData(std::int64_t tile, float* scratch) const { return tileForRead(tile, scratch); }
+  /// \brief Called with each spilled tile the cache brings back (index, pixels), until cleared with an empty
+  /// function: lets a pass over the map serve other readers from the tiles it reads anyway.
+  using TileObserver = std::function<void(std::int64_t, const float*)>;
+  void observeBroughtBack(TileObserver observer) const { observer_ = std::move(observer); }
+
 private:
   struct Slot
   {
@@ -123,6 +133,7 @@ private:
   mutable std::size_t hot_slot_ = 0;
   mutable float* hot_data_ = nullptr;   ///< valid until the next makeRoom()
   mutable bool hot_written_ = false;    ///< the hot tile came through tileForWrite (dirty, summary stale)
+  mutable TileObserver observer_;
   mutable bool summary_valid_ = false;  ///< total_ and peak_ match the tiles
   mutable double total_ = 0.0;
   mutable float peak_ = 0.0f;

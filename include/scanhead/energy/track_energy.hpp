@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "scanhead/common/chunk.hpp"
@@ -64,4 +65,12 @@ TrackEnergyProfile trackEnergyProfile(const TiledEnergyMap& map, const std::vect
 /// \brief Largest E [J/m²] over the pixels whose centre lies within \p radius_m of \p point
 /// (the pixel holding the point if none does); 0 off the map.
 double peakNear(const TiledEnergyMap& map, const Eigen::Vector2d& point, double radius_m);
+/// \brief peakNear() of many discs in one pass over the tiles: while \p during runs (a pass that reads the map through
+/// its cache, e.g. trackEnergyProfile), every spilled tile the map brings back serves each disc that overlaps it;
+/// the tiles still owed after it are read then (resident ones from memory). A maximum does not depend on the order
+/// in which its pixels are seen (E ≥ 0; untouched pixels read 0): the values of peakNear, bit for bit, with the
+/// spill file read once instead of once more (the THESIS layer's corner peaks: 4.2 s of reads).
+/// \param[in] radii_m one per point [m]
+std::vector<double> peaksNear(const TiledEnergyMap& map, const std::vector<Eigen::Vector2d>& points,
+                              const std::vector<double>& radii_m, const std::function<void()>& during);
 }  // namespace scanhead
