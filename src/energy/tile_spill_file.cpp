@@ -34,8 +34,8 @@ void AlignedFree::operator()(float* p) const
 
 AlignedFloats allocateAligned(std::size_t count)
 {
-  const std::size_t bytes = (count * sizeof(float) + TileSpillFile::kAlignment - 1) / TileSpillFile::kAlignment *
-                            TileSpillFile::kAlignment;
+  const std::size_t bytes =
+      (count * sizeof(float) + TileSpillFile::kAlignment - 1) / TileSpillFile::kAlignment * TileSpillFile::kAlignment;
   void* p = std::aligned_alloc(TileSpillFile::kAlignment, std::max(bytes, TileSpillFile::kAlignment));
   if (p == nullptr)
     throw std::bad_alloc();
@@ -109,12 +109,12 @@ std::int64_t TileSpillFile::allocate()
   return offset;
 }
 
-void TileSpillFile::writeAt(std::int64_t offset, const void* data, std::size_t bytes)
+void TileSpillFile::transfer(bool writing, std::int64_t offset, void* data, std::size_t bytes)
 {
-  const char* p = static_cast<const char*>(data);
+  char* p = static_cast<char*>(data);
   while (bytes > 0)
   {
-    const ssize_t n = ::pwrite(fd_, p, bytes, offset);
+    const ssize_t n = writing ? ::pwrite(fd_, p, bytes, offset) : ::pread(fd_, p, bytes, offset);
     if (n < 0 && errno == EINTR)
       continue;
     if (n < 0 && errno == EINVAL && direct_)
@@ -125,32 +125,10 @@ void TileSpillFile::writeAt(std::int64_t offset, const void* data, std::size_t b
       continue;
     }
     if (n <= 0)
-      throw InputError(ioError("write", folder()));
-    p += n;
-    offset += n;
-    bytes -= static_cast<std::size_t>(n);
-  }
-}
-
-void TileSpillFile::readAt(std::int64_t offset, void* data, std::size_t bytes)
-{
-  char* p = static_cast<char*>(data);
-  while (bytes > 0)
-  {
-    const ssize_t n = ::pread(fd_, p, bytes, offset);
-    if (n < 0 && errno == EINTR)
-      continue;
-    if (n < 0 && errno == EINVAL && direct_)
-    {
-      ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) & ~O_DIRECT);
-      direct_ = false;
-      continue;
-    }
-    if (n <= 0)
     {
       if (n == 0)
-        errno = EIO;  // the file is shorter than what was written to it
-      throw InputError(ioError("read", folder()));
+        errno = EIO;  // a read past what was written, or a write that wrote nothing
+      throw InputError(ioError(writing ? "write" : "read", folder()));
     }
     p += n;
     offset += n;
@@ -183,7 +161,7 @@ void TileSpillFile::write(std::vector<Pending>& tiles)
     {
       const std::size_t done = n > 0 ? static_cast<std::size_t>(n) / tile_bytes_ : 0;
       for (std::size_t k = i + done; k < j; ++k)
-        writeAt(tiles[k].offset, tiles[k].data, tile_bytes_);
+        transfer(true, tiles[k].offset, const_cast<float*>(tiles[k].data), tile_bytes_);
     }
     i = j;
   }
@@ -206,7 +184,8 @@ TileSpillFile::Block& TileSpillFile::blockFor(std::int64_t tile_offset)
   Block* victim = nullptr;
   for (Block& b : blocks_)
   {
-    if (b.offset == start && tile_offset + static_cast<std::int64_t>(tile_bytes_) <= start + static_cast<std::int64_t>(b.bytes))
+    if (b.offset == start &&
+        tile_offset + static_cast<std::int64_t>(tile_bytes_) <= start + static_cast<std::int64_t>(b.bytes))
     {
       b.last_use = ++clock_;
       return b;
@@ -225,7 +204,7 @@ TileSpillFile::Block& TileSpillFile::blockFor(std::int64_t tile_offset)
                                 [](const Block& a, const Block& b) { return a.last_use < b.last_use; });
   victim->offset = -1;  // empty until the read succeeds
   const std::size_t bytes = static_cast<std::size_t>(std::min(block_bytes, end_ - start));
-  readAt(start, victim->data.get(), bytes);
+  transfer(false, start, victim->data.get(), bytes);
   ++block_reads_;
   victim->offset = start;
   victim->bytes = bytes;

@@ -188,8 +188,7 @@ void TiledEnergyMap::makeRoom() const
   if (free_buffers_.empty())
   {
     // Slabs of tiles: one aligned allocation a tile would waste up to an alignment (4 KiB) each.
-    const std::size_t tiles =
-        std::clamp<std::size_t>(max_resident_ + 1 - allocated_tiles_, 1, kSlabTiles);
+    const std::size_t tiles = std::clamp<std::size_t>(max_resident_ + 1 - allocated_tiles_, 1, kSlabTiles);
     buffers_.push_back(allocateAligned(tiles * static_cast<std::size_t>(kTilePixels)));
     for (std::size_t k = 0; k < tiles; ++k)
       free_buffers_.push_back(buffers_.back().get() + k * static_cast<std::size_t>(kTilePixels));

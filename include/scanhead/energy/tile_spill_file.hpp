@@ -67,15 +67,15 @@ public:
   /// \brief Forgets every tile (the file and its space are reused from offset 0).
   void clear();
 
-  std::int64_t bytes() const { return end_; }  ///< file length in use
+  std::int64_t bytes() const { return end_; }              ///< file length in use
   std::size_t blockBytes() const { return block_bytes_; }  ///< bytes per cached block
   /// \brief Offset of the block holding \p offset.
   std::int64_t blockStart(std::int64_t offset) const
   {
     return offset / static_cast<std::int64_t>(block_bytes_) * static_cast<std::int64_t>(block_bytes_);
   }
-  bool direct() const { return direct_; }      ///< whether the file is opened with O_DIRECT
-  std::size_t cacheBytes() const;              ///< memory the cached blocks hold
+  bool direct() const { return direct_; }                    ///< whether the file is opened with O_DIRECT
+  std::size_t cacheBytes() const;                            ///< memory the cached blocks hold
   std::uint64_t blockReads() const { return block_reads_; }  ///< reads of the file (cost measure)
 
 private:
@@ -88,8 +88,8 @@ private:
   };
   std::string folder() const;  ///< dir, else $TMPDIR, else /tmp
   void open();
-  void writeAt(std::int64_t offset, const void* data, std::size_t bytes);
-  void readAt(std::int64_t offset, void* data, std::size_t bytes);
+  /// \brief pwrite or pread of all \p bytes (retried on EINTR; O_DIRECT dropped if a transfer is refused with it).
+  void transfer(bool writing, std::int64_t offset, void* data, std::size_t bytes);
   Block& blockFor(std::int64_t tile_offset);
 
   std::size_t tile_bytes_ = 0, block_bytes_ = 0, max_blocks_ = 1;

@@ -77,7 +77,8 @@ public:
 
   std::size_t tilesTouched() const { return slots_.size(); }
   std::size_t tilesSpilled() const { return spilled_tiles_; }  ///< tiles that were written to the file at least once
-  std::size_t peakResidentBytes() const;  ///< largest memory the tiles, the file's block cache and the directory held [bytes]
+  std::size_t peakResidentBytes()
+      const;  ///< largest memory the tiles, the file's block cache and the directory held [bytes]
   std::size_t spillFileBytes() const { return static_cast<std::size_t>(spill_.bytes()); }
   const TileSpillFile& spillFile() const { return spill_; }
 
@@ -111,7 +112,7 @@ private:
   };
   static TileSummary summariseTile(const float* data);
   void summarise() const;
-  void load(Slot& slot) const;      ///< a spilled tile back, with its neighbours in the file
+  void load(Slot& slot) const;       ///< a spilled tile back, with its neighbours in the file
   void bringBack(Slot& slot) const;  ///< a spilled tile back
   static std::size_t fileTileOf(std::int64_t offset) { return static_cast<std::size_t>(offset) / kTileBytes; }
 
@@ -121,8 +122,9 @@ private:
   std::size_t max_resident_ = 0;
   mutable std::vector<std::int32_t> slot_of_tile_;  ///< -1: untouched
   mutable std::vector<Slot> slots_;
-  mutable std::vector<std::int32_t> slot_of_file_tile_;     ///< slot of each tile of the spill file, by offset
-  mutable std::deque<TileSummary> spilled_summaries_;  ///< each spilled tile's summary as last written (no regrowth copy)
+  mutable std::vector<std::int32_t> slot_of_file_tile_;  ///< slot of each tile of the spill file, by offset
+  mutable std::deque<TileSummary>
+      spilled_summaries_;                       ///< each spilled tile's summary as last written (no regrowth copy)
   mutable std::vector<AlignedFloats> buffers_;  ///< slabs of tile buffers, every one ever allocated
   mutable std::size_t allocated_tiles_ = 0;     ///< tile buffers in the slabs
   mutable std::vector<float*> free_buffers_;
@@ -131,8 +133,8 @@ private:
   mutable TileSpillFile spill_;
   mutable std::int64_t hot_tile_ = -1;  ///< the tile last returned (a stencil's rows hit 1–4 tiles)
   mutable std::size_t hot_slot_ = 0;
-  mutable float* hot_data_ = nullptr;   ///< valid until the next makeRoom()
-  mutable bool hot_written_ = false;    ///< the hot tile came through tileForWrite (dirty, summary stale)
+  mutable float* hot_data_ = nullptr;  ///< valid until the next makeRoom()
+  mutable bool hot_written_ = false;   ///< the hot tile came through tileForWrite (dirty, summary stale)
   mutable TileObserver observer_;
   mutable bool summary_valid_ = false;  ///< total_ and peak_ match the tiles
   mutable double total_ = 0.0;
