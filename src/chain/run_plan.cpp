@@ -37,8 +37,6 @@ constexpr double kIndexBytesPerSample = 8.0;         // nearest-path index eleme
 constexpr double kTrackBytesPerSample = 88.0;        // sizeof(SpotSample)
 constexpr double kThermalBytesPerCell = 48.0;
 constexpr double kTileBytes = TiledEnergyMap::kTileSide * TiledEnergyMap::kTileSide * 4.0 + 64.0;
-// Per spilled tile: its summary (Σ in 8 lanes, max) and its entry in the file's reverse index.
-constexpr double kSpilledTileBytes = 72.0 + 4.0;
 // Wall time (seconds), measured rates of the README's performance table (2-core VM).
 constexpr double kProducerSecondsPerSample = 0.55e-6;  // NC 3.1 M/s, servo 16 M/s, optics 6.5 M/s
 constexpr double kServoSecondsPerStep = 0.065e-6;      // one cascade controller period, both axes
@@ -386,9 +384,7 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
   if (plan.map_tiles <= 2147483648.0)  // TiledEnergyMap refuses more (ConfigError)
     plan.map_tiles_touched = touchedTiles(timeline, radius + kFollowingMargin_m, lo, tile_m,
                                           static_cast<std::int64_t>(tiles_x), static_cast<std::int64_t>(tiles_y));
-  // Tiles take 7/8 of the cache, the spill file's block cache the rest (TiledEnergyMap).
-  const double cache_bytes = static_cast<double>(e.tile_cache_bytes);
-  const double cache_tiles = std::max(16.0, std::floor((cache_bytes - std::floor(cache_bytes / 8.0)) / kTileBytes));
+  const double cache_tiles = static_cast<double>(TiledEnergyMap::residentTilesFor(e.tile_cache_bytes));
   plan.map_tiles_resident = std::min(plan.map_tiles_touched, cache_tiles);
   plan.map_spill_bytes = (plan.map_tiles_touched - plan.map_tiles_resident) * side * side * 4.0;
 
@@ -420,8 +416,8 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
   m.map_directory = plan.map_tiles * 4.0;
   const double spilled = plan.map_tiles_touched - plan.map_tiles_resident;
   m.map_tiles = plan.map_tiles_resident * kTileBytes +
-                (spilled > 0.0 ? std::floor(static_cast<double>(e.tile_cache_bytes) / 8.0) : 0.0) +
-                spilled * kSpilledTileBytes;
+                (spilled > 0.0 ? static_cast<double>(TiledEnergyMap::blockCacheBytesFor(e.tile_cache_bytes)) : 0.0) +
+                spilled * static_cast<double>(TiledEnergyMap::spilledTileBytes());
   if (plan.samples <= static_cast<double>(e.contour_max_samples))
   {
     m.contour_path = plan.samples * kPathBytesPerSample;

@@ -13,19 +13,30 @@ namespace scanhead
 namespace
 {
 constexpr std::int64_t kTilePixels = static_cast<std::int64_t>(TiledEnergyMap::kTileSide) * TiledEnergyMap::kTileSide;
-constexpr std::size_t kTileBytes = TiledEnergyMap::kTileBytes;
 constexpr std::size_t kMinResidentTiles = 16;
 constexpr std::size_t kMaxBlockTiles = 64;  // 1 MiB blocks: a direct read at ~1 GB/s
 constexpr std::size_t kMaxBlocks = 32;
 constexpr std::size_t kSlabTiles = 16;  // tile buffers allocated 16 at a time (256 KiB)
 
 /// \brief The spill file's block cache: an eighth of the budget, blocks of up to kMaxBlockTiles tiles.
+struct BlockCache
+{
+  std::size_t block_tiles = 1, blocks = 1;
+};
+BlockCache blockCacheFor(std::size_t cache_bytes)
+{
+  constexpr std::size_t tile_bytes = TiledEnergyMap::kTileBytes;
+  const std::size_t share = cache_bytes / 8;
+  BlockCache c;
+  c.block_tiles = std::clamp<std::size_t>(share / tile_bytes, 1, kMaxBlockTiles);
+  c.blocks = std::clamp<std::size_t>(share / (c.block_tiles * tile_bytes), 1, kMaxBlocks);
+  return c;
+}
+
 TileSpillFile spillFileFor(std::size_t cache_bytes, std::string dir)
 {
-  const std::size_t share = cache_bytes / 8;
-  const std::size_t block_tiles = std::clamp<std::size_t>(share / kTileBytes, 1, kMaxBlockTiles);
-  const std::size_t blocks = std::clamp<std::size_t>(share / (block_tiles * kTileBytes), 1, kMaxBlocks);
-  return TileSpillFile(kTileBytes, block_tiles, blocks, std::move(dir));
+  const BlockCache c = blockCacheFor(cache_bytes);
+  return TileSpillFile(TiledEnergyMap::kTileBytes, c.block_tiles, c.blocks, std::move(dir));
 }
 }  // namespace
 
@@ -54,11 +65,22 @@ TiledEnergyMap::TiledEnergyMap(const Eigen::Vector2d& min_corner, const Eigen::V
         << " tiles (limit 2^31): increase energy.pixel_m or reduce the job extent";
     throw ConfigError(msg.str());
   }
-  max_resident_ = std::max(kMinResidentTiles, (cache_bytes - cache_bytes / 8) / kTileBytes);
+  max_resident_ = residentTilesFor(cache_bytes);
   slot_of_tile_.assign(static_cast<std::size_t>(tiles_x_ * tiles_y_), -1);
 }
 
 TiledEnergyMap::~TiledEnergyMap() = default;
+
+std::size_t TiledEnergyMap::residentTilesFor(std::size_t cache_bytes)
+{
+  return std::max(kMinResidentTiles, (cache_bytes - cache_bytes / 8) / kTileBytes);
+}
+
+std::size_t TiledEnergyMap::blockCacheBytesFor(std::size_t cache_bytes)
+{
+  const BlockCache c = blockCacheFor(cache_bytes);
+  return c.blocks * c.block_tiles * kTileBytes;
+}
 
 TiledEnergyMap::TiledEnergyMap(TiledEnergyMap&& other) noexcept
 {

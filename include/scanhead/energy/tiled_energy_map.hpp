@@ -77,10 +77,17 @@ public:
 
   std::size_t tilesTouched() const { return slots_.size(); }
   std::size_t tilesSpilled() const { return spilled_tiles_; }  ///< tiles that were written to the file at least once
-  std::size_t peakResidentBytes()
-      const;  ///< largest memory the tiles, the file's block cache and the directory held [bytes]
+  /// \brief Largest memory the tiles, the file's block cache and the directory held [bytes].
+  std::size_t peakResidentBytes() const;
   std::size_t spillFileBytes() const { return static_cast<std::size_t>(spill_.bytes()); }
   const TileSpillFile& spillFile() const { return spill_; }
+
+  /// \brief How a map divides cache_bytes: tiles resident at most (7/8 of it, ≥ 16 tiles).
+  static std::size_t residentTilesFor(std::size_t cache_bytes);
+  /// \brief The spill file's block cache at most (the other 1/8, blocks of up to 64 tiles, ≥ one tile) [bytes].
+  static std::size_t blockCacheBytesFor(std::size_t cache_bytes);
+  /// \brief Memory a spilled tile keeps besides the file: its summary and its entry in the file's index [bytes].
+  static constexpr std::size_t spilledTileBytes() { return sizeof(TileSummary) + sizeof(std::int32_t); }
 
   std::int64_t tilesAcross() const { return tiles_x_; }  ///< tile columns (tile index = row · tilesAcross() + column)
   /// \brief Tile \p tile's kTileSide² pixels (row-major; 0 beyond the map's edge), nullptr if untouched; a spilled
