@@ -71,6 +71,7 @@ EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcPlan
   , trace_(plan.total_samples, kMaxTraceRows)
   , nc_stats_(ncStatsOf(plan))
   , quality_(makeLayerQuality(config, job, plan, actual_delay_s_))
+  , export_crops_(exportCrops(job, config.energy))
 {
   // A crop that misses the map is a setting error: said now, not after the run.
   const TiledEnergyMap& map = accumulator_.map();
@@ -113,9 +114,10 @@ void EnergyStage::process(const SpotChunk& chunk)
   }
   if (!side_)
     side_ = std::make_unique<SideThread>();
-  // This thread merges the chunk's samples into strokes; both threads then weigh the strokes (the side thread once
-  // the trackers are done: the energy's weights are most of the work) and this one adds them to the map in stream
-  // order, so the map is the same floats as on one thread.
+  // This thread merges the chunk's samples into strokes; both threads then weigh them (the side thread once the
+  // trackers are done: the energy's weights are most of the work). The weighed batch is set aside and added to the
+  // map by this thread during the next chunk, while the side thread runs that chunk's trackers: batches reach the map
+  // in stream order, so the map is the same floats as on one thread.
   try
   {
     accumulator_.stage(chunk);
@@ -142,6 +144,7 @@ void EnergyStage::process(const SpotChunk& chunk)
   std::exception_ptr weigh_error, side_error;
   try
   {
+    accumulator_.applyReady();  // the previous chunk's strokes
     accumulator_.weighStaged();
   }
   catch (...)
@@ -158,9 +161,12 @@ void EnergyStage::process(const SpotChunk& chunk)
   }
   if (weigh_error)
     std::rethrow_exception(weigh_error);  // (out of memory) some strokes have no weights
-  accumulator_.applyStaged();
   if (side_error)
+  {
+    accumulator_.applyStaged();  // as on one thread: the map holds every stroke merged before the error
     std::rethrow_exception(side_error);
+  }
+  accumulator_.retireStaged();
 }
 
 void EnergyStage::feedThermal(const SpotChunk& chunk)
@@ -223,8 +229,16 @@ void EnergyStage::thinTrack()
   track_stride_ *= 2;
 }
 
+std::shared_ptr<const EnergyMapViews> EnergyStage::mapViews() const
+{
+  if (!views_)
+    views_ = std::make_shared<const EnergyMapViews>(readEnergyMapViews(accumulator_.map(), export_crops_));
+  return views_;
+}
+
 RunMetrics EnergyStage::finish()
 {
+  views_.reset();  // a map still growing is never shown
   // The layer metrics' last pass (the nearest-path index over the whole path) needs no map: it runs
   // on the second core while this one reads the map for the energy figures.
   auto quality = std::async(config_.stream.threads < 2 ? std::launch::deferred : std::launch::async,
@@ -288,6 +302,10 @@ RunMetrics EnergyStage::finish()
   }
   if (track.mean_jpm2 > 0.0 && !m.corners.empty())
     m.corner_peak_to_track_mean = ratio_sum / static_cast<double>(m.corners.size());
+  // The results' overview and crops read the whole map: here, while the nearest-path pass holds the other core (on the
+  // THESIS layer it outlasts the track's pass by seconds), rather than in the results phase after it.
+  if (config_.stream.threads >= 2)
+    mapViews();
   m.quality = quality.get();
   if (thermal_)
   {

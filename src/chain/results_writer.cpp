@@ -64,11 +64,11 @@ void writeResultsFolder(const FolderLock& lock, const RunMetrics& metrics, const
   try
   {
     writeTextFile(tmp / kResultsMarker, "written by scanhead\n");
-    // Every file is independent of the others: written side by side, the longest first (on the
-    // THESIS layer: the energy overview, which reads the whole tiled map); each file's bytes are
+    // Every file is independent of the others: written side by side, the energy images first (the
+    // longest: their grids were read from the map by EnergyStage::mapViews); each file's bytes are
     // those of a serial write.
     TaskPool pool;
-    addEnergyExportTasks(pool, tmp.string(), energy.map(), job, config.energy);
+    addEnergyViewTasks(pool, tmp.string(), *energy.mapViews());
     // The plots' data next, so data_written comes early; the last of the three calls it.
     std::atomic<int> data_left{3};
     auto data_file = [&](const char* name, const std::function<std::string()>& text) {

@@ -416,7 +416,9 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
   m.map_directory = plan.map_tiles * 4.0;
   const double spilled = plan.map_tiles_touched - plan.map_tiles_resident;
   m.map_tiles = plan.map_tiles_resident * kTileBytes +
-                (spilled > 0.0 ? static_cast<double>(TiledEnergyMap::blockCacheBytesFor(e.tile_cache_bytes)) : 0.0) +
+                (spilled > 0.0 ? static_cast<double>(TiledEnergyMap::blockCacheBytesFor(e.tile_cache_bytes) +
+                                                     TiledEnergyMap::stagingBytesFor(e.tile_cache_bytes))
+                               : 0.0) +
                 spilled * static_cast<double>(TiledEnergyMap::spilledTileBytes());
   if (plan.samples <= static_cast<double>(e.contour_max_samples))
   {

@@ -47,6 +47,7 @@ void EnergyAccumulator::reset()
   merger_.reset();
   staged_.clear();
   staged_pixels_ = 0.0;
+  ready_count_ = 0;
   next_to_weigh_->store(0);
   stroke_deposit_.resetCounters();
   samples_ = strokes_ = 0;
@@ -112,6 +113,7 @@ void EnergyAccumulator::finish()
   if (exact_)
     flushStroke();
   drawStaged();
+  map_.finishWrites();
 }
 
 void EnergyAccumulator::deposit(const SpotSample& from, const Eigen::Vector2d& to, double period_s)
@@ -161,18 +163,45 @@ void EnergyAccumulator::weighStaged()
     stroke_deposit_.weigh(map_, staged_[k], staged_weights_[k]);
 }
 
+namespace
+{
+/// \brief Adds the first \p count weights of \p batch to the map in order; a slot grown large is freed after use.
+void applyBatch(StrokeDeposit& deposit, TiledEnergyMap& map, std::vector<StrokeWeights>& batch, std::size_t count,
+                double& outside_j)
+{
+  constexpr std::size_t kKeptSlotFloats = std::size_t{1} << 16;
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    deposit.apply(map, batch[k], outside_j);
+    if (batch[k].weights.size() > kKeptSlotFloats)
+      batch[k] = StrokeWeights();
+  }
+}
+}  // namespace
+
 void EnergyAccumulator::applyStaged()
 {
-  constexpr std::size_t kKeptSlotFloats = std::size_t{1} << 16;  // a larger slot is freed after use
-  for (std::size_t k = 0; k < staged_.size(); ++k)
-  {
-    stroke_deposit_.apply(map_, staged_weights_[k], outside_j_);
-    if (staged_weights_[k].weights.size() > kKeptSlotFloats)
-      staged_weights_[k] = StrokeWeights();
-  }
+  applyReady();  // the batch set aside came first in the stream
+  applyBatch(stroke_deposit_, map_, staged_weights_, staged_.size(), outside_j_);
   staged_.clear();
   staged_pixels_ = 0.0;
   next_to_weigh_->store(0);
+}
+
+void EnergyAccumulator::retireStaged()
+{
+  applyReady();  // at most one batch waits
+  std::swap(staged_weights_, ready_weights_);
+  ready_count_ = staged_.size();
+  staged_.clear();
+  staged_pixels_ = 0.0;
+  next_to_weigh_->store(0);
+}
+
+void EnergyAccumulator::applyReady()
+{
+  applyBatch(stroke_deposit_, map_, ready_weights_, ready_count_, outside_j_);
+  ready_count_ = 0;
 }
 
 void EnergyAccumulator::drawStaged()

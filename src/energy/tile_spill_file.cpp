@@ -3,14 +3,15 @@
 #include "scanhead/energy/tile_spill_file.hpp"
 
 #include <fcntl.h>
-#include <sys/uio.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <new>
+#include <utility>
 
 #include "scanhead/common/errors.hpp"
 
@@ -18,8 +19,6 @@ namespace scanhead
 {
 namespace
 {
-constexpr std::size_t kMaxRunTiles = 64;  // tiles in one pwritev (well under IOV_MAX = 1024)
-
 std::string ioError(const std::string& what, const std::string& dir)
 {
   return "energy map: cannot " + what + " the tile spill file in " + dir + " (" + std::strerror(errno) +
@@ -52,6 +51,7 @@ TileSpillFile::TileSpillFile(std::size_t tile_bytes, std::size_t block_tiles, st
 
 TileSpillFile::~TileSpillFile()
 {
+  finishWritesQuietly();  // the writer reads the staging buffer and the descriptor
   if (fd_ >= 0)
     ::close(fd_);
 }
@@ -65,6 +65,8 @@ TileSpillFile& TileSpillFile::operator=(TileSpillFile&& other) noexcept
 {
   if (this != &other)
   {
+    finishWritesQuietly();
+    other.finishWritesQuietly();  // its writer's task points at it
     if (fd_ >= 0)
       ::close(fd_);
     tile_bytes_ = other.tile_bytes_;
@@ -77,6 +79,13 @@ TileSpillFile& TileSpillFile::operator=(TileSpillFile&& other) noexcept
     blocks_ = std::move(other.blocks_);
     clock_ = other.clock_;
     block_reads_ = other.block_reads_;
+    staging_ = std::move(other.staging_);
+    staging_tiles_ = other.staging_tiles_;
+    runs_ = std::move(other.runs_);
+    writer_ = std::move(other.writer_);
+    write_error_ = std::move(other.write_error_);
+    other.staging_tiles_ = 0;
+    other.write_error_ = nullptr;
     other.fd_ = -1;
     other.end_ = 0;
     other.blocks_.clear();
@@ -140,30 +149,27 @@ void TileSpillFile::write(std::vector<Pending>& tiles)
 {
   if (tiles.empty())
     return;
+  finishWrites();  // its staging buffer is about to be reused
   if (fd_ < 0)
     open();
   std::sort(tiles.begin(), tiles.end(), [](const Pending& a, const Pending& b) { return a.offset < b.offset; });
-  const std::int64_t tile = static_cast<std::int64_t>(tile_bytes_);
-  std::vector<iovec> iov;
-  iov.reserve(kMaxRunTiles);
-  for (std::size_t i = 0; i < tiles.size();)
+  const std::size_t tile_floats = tile_bytes_ / sizeof(float);
+  if (staging_tiles_ < tiles.size())
   {
-    // A run of consecutive offsets: one call (a partial or refused one is finished tile by tile).
-    std::size_t j = i + 1;
-    while (j < tiles.size() && j - i < kMaxRunTiles && tiles[j].offset == tiles[j - 1].offset + tile)
-      ++j;
-    iov.clear();
-    for (std::size_t k = i; k < j; ++k)
-      iov.push_back({const_cast<float*>(tiles[k].data), tile_bytes_});
-    const ssize_t want = static_cast<ssize_t>((j - i) * tile_bytes_);
-    ssize_t n = ::pwritev(fd_, iov.data(), static_cast<int>(iov.size()), tiles[i].offset);
-    if (n != want)
-    {
-      const std::size_t done = n > 0 ? static_cast<std::size_t>(n) / tile_bytes_ : 0;
-      for (std::size_t k = i + done; k < j; ++k)
-        transfer(true, tiles[k].offset, const_cast<float*>(tiles[k].data), tile_bytes_);
-    }
-    i = j;
+    staging_.reset();  // before the larger one: never both
+    staging_tiles_ = 0;
+    staging_ = allocateAligned(tiles.size() * tile_floats);
+    staging_tiles_ = tiles.size();
+  }
+  const std::int64_t tile = static_cast<std::int64_t>(tile_bytes_);
+  runs_.clear();
+  for (std::size_t k = 0; k < tiles.size(); ++k)
+  {
+    std::memcpy(staging_.get() + k * tile_floats, tiles[k].data, tile_bytes_);
+    if (!runs_.empty() && tiles[k].offset == runs_.back().offset + static_cast<std::int64_t>(runs_.back().count) * tile)
+      ++runs_.back().count;
+    else
+      runs_.push_back({tiles[k].offset, k, 1});
   }
   // Cached blocks stay equal to the file.
   for (Block& b : blocks_)
@@ -174,6 +180,35 @@ void TileSpillFile::write(std::vector<Pending>& tiles)
       if (t.offset >= b.offset && t.offset + tile <= b.offset + static_cast<std::int64_t>(b.bytes))
         std::memcpy(b.data.get() + (t.offset - b.offset) / static_cast<std::int64_t>(sizeof(float)), t.data,
                     tile_bytes_);
+  }
+  if (!writer_)
+    writer_ = std::make_unique<SideThread>();
+  writer_->start([this, tile_floats] {
+    for (const Run& run : runs_)
+      transfer(true, run.offset, staging_.get() + run.first * tile_floats, run.count * tile_bytes_);
+  });
+  in_flight_ = true;
+}
+
+void TileSpillFile::finishWrites()
+{
+  if (write_error_)
+    std::rethrow_exception(std::exchange(write_error_, nullptr));
+  if (!in_flight_)
+    return;
+  in_flight_ = false;
+  writer_->wait();  // rethrows the writer's InputError
+}
+
+void TileSpillFile::finishWritesQuietly() noexcept
+{
+  try
+  {
+    finishWrites();
+  }
+  catch (...)
+  {
+    write_error_ = std::current_exception();
   }
 }
 
@@ -203,6 +238,7 @@ TileSpillFile::Block& TileSpillFile::blockFor(std::int64_t tile_offset)
     victim = &*std::min_element(blocks_.begin(), blocks_.end(),
                                 [](const Block& a, const Block& b) { return a.last_use < b.last_use; });
   victim->offset = -1;  // empty until the read succeeds
+  finishWrites();       // the block may hold tiles still on their way to the file
   const std::size_t bytes = static_cast<std::size_t>(std::min(block_bytes, end_ - start));
   transfer(false, start, victim->data.get(), bytes);
   ++block_reads_;
@@ -220,6 +256,8 @@ void TileSpillFile::read(std::int64_t offset, float* to)
 
 void TileSpillFile::clear()
 {
+  finishWritesQuietly();
+  write_error_ = nullptr;  // about tiles now forgotten
   end_ = 0;
   for (Block& b : blocks_)
     b.offset = -1;
@@ -227,6 +265,6 @@ void TileSpillFile::clear()
 
 std::size_t TileSpillFile::cacheBytes() const
 {
-  return blocks_.size() * block_bytes_;
+  return blocks_.size() * block_bytes_ + staging_tiles_ * tile_bytes_;
 }
 }  // namespace scanhead

@@ -73,7 +73,13 @@ TiledEnergyMap::~TiledEnergyMap() = default;
 
 std::size_t TiledEnergyMap::residentTilesFor(std::size_t cache_bytes)
 {
-  return std::max(kMinResidentTiles, (cache_bytes - cache_bytes / 8) / kTileBytes);
+  // Tiles T and the spill file's staging buffer (one eviction batch, T/8) share 7/8 of the budget: 9T/8 = 7/8.
+  return std::max(kMinResidentTiles, (cache_bytes - cache_bytes / 8) / 9 * 8 / kTileBytes);
+}
+
+std::size_t TiledEnergyMap::stagingBytesFor(std::size_t cache_bytes)
+{
+  return std::max<std::size_t>(1, residentTilesFor(cache_bytes) / 8) * kTileBytes;
 }
 
 std::size_t TiledEnergyMap::blockCacheBytesFor(std::size_t cache_bytes)
@@ -376,10 +382,32 @@ EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int6
   const double big = pixel_ * static_cast<double>(f);
   const Eigen::Vector2d lo = origin_ + pixel_ * Eigen::Vector2d(static_cast<double>(c0), static_cast<double>(r0));
   EnergyMap out(lo, lo + big * Eigen::Vector2d(static_cast<double>(out_w), static_cast<double>(out_h)), big);
-  // Sums in double per output pixel, tile by tile in tile order (deterministic), then the block mean.
-  std::vector<double> sum(static_cast<std::size_t>(out.width()) * static_cast<std::size_t>(out.height()), 0.0);
+  // Sums in double per output pixel, tile by tile in tile order (deterministic), then the block mean. Only the output
+  // rows a band of tiles reaches are summed at once (a ring of them): the overview of a whole layer needs 100 MB of
+  // doubles otherwise. An output row is complete once the band below its last map row is done.
+  const std::size_t out_cols = static_cast<std::size_t>(out.width());
+  const std::int64_t ring_rows = (kTileSide + f - 1) / f + 1;
+  std::vector<double> sum(static_cast<std::size_t>(ring_rows) * out_cols, 0.0);
+  auto ringRow = [&](std::int64_t out_row) {
+    return sum.data() + static_cast<std::size_t>(out_row % ring_rows) * out_cols;
+  };
+  const double inv = 1.0 / static_cast<double>(f * f);
+  std::int64_t next_out_row = 0;  // the first output row not yet written
+  auto writeRowsBefore = [&](std::int64_t end_row) {
+    for (; next_out_row < end_row; ++next_out_row)
+    {
+      double* ring = ringRow(next_out_row);
+      float* row = out.row(static_cast<int>(next_out_row));
+      for (std::size_t c = 0; c < out_cols; ++c)
+      {
+        row[c] = static_cast<float>(ring[c] * inv);
+        ring[c] = 0.0;
+      }
+    }
+  };
   std::vector<float> scratch(static_cast<std::size_t>(kTilePixels));
   for (std::int64_t tj = r0 / kTileSide; tj <= (r1 - 1) / kTileSide && tj < tiles_y_; ++tj)
+  {
     for (std::int64_t ti = c0 / kTileSide; ti <= (c1 - 1) / kTileSide && ti < tiles_x_; ++ti)
     {
       const float* data = tileForRead(tj * tiles_x_ + ti, scratch.data());
@@ -390,7 +418,7 @@ EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int6
       for (std::int64_t r = rr0; r < rr1; ++r)
       {
         const float* in = data + (r - tj * kTileSide) * kTileSide - ti * kTileSide;
-        double* out_row = sum.data() + static_cast<std::size_t>((r - r0) / f) * static_cast<std::size_t>(out.width());
+        double* out_row = ringRow((r - r0) / f);
         // Block by block, in column order (the same additions as one += per pixel, so the same
         // bits), without a division per pixel: the overview of a whole layer reads ~1e9 pixels.
         for (std::int64_t c = cc0; c < cc1;)
@@ -404,11 +432,10 @@ EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int6
         }
       }
     }
-  const double inv = 1.0 / static_cast<double>(f * f);
-  for (int r = 0; r < out.height(); ++r)
-    for (int c = 0; c < out.width(); ++c)
-      out.row(r)[c] =
-          static_cast<float>(sum[static_cast<std::size_t>(r) * static_cast<std::size_t>(out.width()) + c] * inv);
+    // Output rows whose map rows all lie below the next band: complete.
+    writeRowsBefore(std::min<std::int64_t>(out_h, ((tj + 1) * kTileSide - r0) / f));
+  }
+  writeRowsBefore(out_h);
   return out;
 }
 

@@ -83,41 +83,78 @@ double writeFieldImages(const std::string& dir, const std::string& stem, const E
   return scale;
 }
 
-void addEnergyExportTasks(TaskPool& pool, const std::string& dir_text, const TiledEnergyMap& map, const Job& job,
-                          const EnergyConfig& config)
+std::vector<MapRegion> exportCrops(const Job& job, const EnergyConfig& config)
 {
-  const fs::path dir(dir_text);
   std::vector<MapRegion> crops = jobParts(job, 2.0 * config.spot_diameter_m);
   if (crops.size() > config.crop_parts)
     crops.resize(config.crop_parts);
   for (const MapRegion& region : parseMapRegions(config.crop_regions))
     crops.push_back(region);
+  return crops;
+}
+
+namespace
+{
+EnergyMapViews::View overviewView(const TiledEnergyMap& map)
+{
+  const int factor = map.overviewFactor(kOverviewSide);
+  return {"energy_map", std::make_shared<const EnergyMap>(map.overview(factor)),
+          factor == 1 ? "the whole map at full resolution"
+                      : "overview: means of " + std::to_string(factor) + " x " + std::to_string(factor) +
+                            " pixels of the " + fullPrecisionText(map.pixel()) + " m map (full-resolution peak " +
+                            fullPrecisionText(map.peak()) + " J/m^2)"};
+}
+
+EnergyMapViews::View cropView(const TiledEnergyMap& map, const MapRegion& crop)
+{
+  const double p = map.pixel();
+  const auto col0 = static_cast<std::int64_t>(std::floor((crop.min_corner.x() - map.origin().x()) / p));
+  const auto row0 = static_cast<std::int64_t>(std::floor((crop.min_corner.y() - map.origin().y()) / p));
+  const auto col1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.x() - map.origin().x()) / p));
+  const auto row1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.y() - map.origin().y()) / p));
+  const int factor = TiledEnergyMap::blockFactor(col1 - col0, row1 - row0, kCropSide);
+  return {crop.name, std::make_shared<const EnergyMap>(map.region(col0, row0, col1 - col0, row1 - row0, factor)),
+          factor == 1 ? crop.name + " at full resolution"
+                      : crop.name + ": means of " + std::to_string(factor) + " x " + std::to_string(factor) +
+                            " pixels (over " + std::to_string(kCropSide) + " pixels a side at full resolution)"};
+}
+}  // namespace
+
+EnergyMapViews readEnergyMapViews(const TiledEnergyMap& map, const std::vector<MapRegion>& crops)
+{
+  EnergyMapViews views;
+  views.overview = overviewView(map);
+  for (const MapRegion& crop : crops)
+    views.crops.push_back(cropView(map, crop));
+  return views;
+}
+
+void addEnergyViewTasks(TaskPool& pool, const std::string& dir_text, const EnergyMapViews& views)
+{
+  const fs::path dir(dir_text);
+  addFieldImageTasks(pool, dir.string(), views.overview.stem, views.overview.grid, views.overview.description);
+  if (!views.crops.empty())
+    fs::create_directory(dir / "crops");
+  for (const EnergyMapViews::View& crop : views.crops)
+    addFieldImageTasks(pool, (dir / "crops").string(), crop.stem, crop.grid, crop.description);
+}
+
+void addEnergyExportTasks(TaskPool& pool, const std::string& dir_text, const TiledEnergyMap& map, const Job& job,
+                          const EnergyConfig& config)
+{
+  const fs::path dir(dir_text);
+  const std::vector<MapRegion> crops = exportCrops(job, config);
   if (!crops.empty())
     fs::create_directory(dir / "crops");
   // The tiled map's reads are not thread-safe (its tile cache may load spilled tiles): one task
   // reads every block of it, the overview first; the images of each block are tasks of their own.
   pool.add([&pool, dir, &map, crops] {
-    const int factor = map.overviewFactor(kOverviewSide);
-    addFieldImageTasks(pool, dir.string(), "energy_map", std::make_shared<const EnergyMap>(map.overview(factor)),
-                       factor == 1 ? "the whole map at full resolution"
-                                   : "overview: means of " + std::to_string(factor) + " x " + std::to_string(factor) +
-                                         " pixels of the " + fullPrecisionText(map.pixel()) +
-                                         " m map (full-resolution peak " + fullPrecisionText(map.peak()) + " J/m^2)");
+    const EnergyMapViews::View overview = overviewView(map);
+    addFieldImageTasks(pool, dir.string(), overview.stem, overview.grid, overview.description);
     for (const MapRegion& crop : crops)
     {
-      const double p = map.pixel();
-      const auto col0 = static_cast<std::int64_t>(std::floor((crop.min_corner.x() - map.origin().x()) / p));
-      const auto row0 = static_cast<std::int64_t>(std::floor((crop.min_corner.y() - map.origin().y()) / p));
-      const auto col1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.x() - map.origin().x()) / p));
-      const auto row1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.y() - map.origin().y()) / p));
-      const int crop_factor = TiledEnergyMap::blockFactor(col1 - col0, row1 - row0, kCropSide);
-      addFieldImageTasks(
-          pool, (dir / "crops").string(), crop.name,
-          std::make_shared<const EnergyMap>(map.region(col0, row0, col1 - col0, row1 - row0, crop_factor)),
-          crop_factor == 1
-              ? crop.name + " at full resolution"
-              : crop.name + ": means of " + std::to_string(crop_factor) + " x " + std::to_string(crop_factor) +
-                    " pixels (over " + std::to_string(kCropSide) + " pixels a side at full resolution)");
+      const EnergyMapViews::View view = cropView(map, crop);
+      addFieldImageTasks(pool, (dir / "crops").string(), view.stem, view.grid, view.description);
     }
   });
 }

@@ -16,6 +16,7 @@
 #include "scanhead/metrics/run_metrics.hpp"
 #include "scanhead/nc/nc_plan.hpp"
 #include "scanhead/nc/nc_stats.hpp"
+#include "scanhead/report/energy_exports.hpp"
 #include "scanhead/thermal/thermal_layer.hpp"
 
 namespace scanhead
@@ -37,10 +38,13 @@ public:
   /// before returning.
   void process(const SpotChunk& chunk);
   /// \brief Ends the stream and returns the run's metrics (with stream.threads = 2, the nearest-path
-  /// pass on a second thread while the map is read).
+  /// pass on a second thread while the map is read: for the track's energy, the corner peaks, then mapViews()).
   RunMetrics finish();
 
   const TiledEnergyMap& map() const { return accumulator_.map(); }
+  /// \brief The overview and crops the results show (report/energy_exports.hpp), read from the map once: by
+  /// finish() with stream.threads = 2, else at the first call (after finish()). Not thread-safe.
+  std::shared_ptr<const EnergyMapViews> mapViews() const;
   const TraceRecorder& trace() const { return trace_; }
   std::uint64_t samplesSeen() const { return counter_.samples(); }
   /// \brief The thermal view, or nullptr when thermal.enabled is false.
@@ -68,8 +72,10 @@ private:
   TraceRecorder trace_;
   NcStats nc_stats_;  ///< the plan's figures (the per-sample ones stay with the NC)
   LayerQuality quality_;
-  std::unique_ptr<ThermalLayer> thermal_;  ///< optional (thermal.enabled)
-  std::uint64_t thermal_samples_ = 0;      ///< samples given to it
-  std::unique_ptr<SideThread> side_;       ///< runs the trackers beside the map (stream.threads = 2)
+  std::unique_ptr<ThermalLayer> thermal_;                ///< optional (thermal.enabled)
+  std::uint64_t thermal_samples_ = 0;                    ///< samples given to it
+  std::unique_ptr<SideThread> side_;                     ///< runs the trackers beside the map (stream.threads = 2)
+  std::vector<MapRegion> export_crops_;                  ///< the crops of the results (exportCrops)
+  mutable std::shared_ptr<const EnergyMapViews> views_;  ///< read once, by finish() or mapViews()
 };
 }  // namespace scanhead

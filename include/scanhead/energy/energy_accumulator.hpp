@@ -52,9 +52,17 @@ public:
   /// is the one process() gives, bit for bit: each stroke's weights are the same floats whichever thread computed them.
   /// At most kMaxStagedStrokes strokes or kMaxStagedPixels weights are staged; beyond, stage() draws them itself.
   /// If stage() throws, what it staged is still to be weighed and applied (process() does).
+  ///
+  /// Pipelined (EnergyStage): retireStaged() sets the weighed batch aside instead of applying it, and applyReady()
+  /// adds it to the map later, on this thread, while other threads weigh the next batch (weighing reads only the map's
+  /// geometry). Every step that adds to the map (applyStaged, a draw inside stage(), finish) first applies the batch
+  /// set aside, so the strokes reach the map in stream order: the same floats as process(). Up to two batches are then
+  /// held (2 × kMaxStagedPixels weights).
   void stage(const SpotChunk& chunk);
   void weighStaged();
   void applyStaged();
+  void retireStaged();
+  void applyReady();
   static constexpr std::size_t kMaxStagedStrokes = 1024;
   static constexpr double kMaxStagedPixels = 8.0 * 1024 * 1024;  ///< 32 MB of float weights
   const TiledEnergyMap& map() const { return map_; }
@@ -86,6 +94,8 @@ private:
   std::uint64_t samples_ = 0, strokes_ = 0;
   std::vector<Stroke> staged_;
   std::vector<StrokeWeights> staged_weights_;  ///< slot k: staged_[k]'s weights (slots kept between batches)
+  std::vector<StrokeWeights> ready_weights_;   ///< the batch retireStaged() set aside, in stream order
+  std::size_t ready_count_ = 0;                ///< its strokes (slots beyond are spare)
   double staged_pixels_ = 0.0;                 ///< upper estimate of the staged strokes' weights
   /// Next staged stroke to weigh (on the heap: keeps the accumulator movable).
   std::unique_ptr<std::atomic<std::size_t>> next_to_weigh_ = std::make_unique<std::atomic<std::size_t>>(0);

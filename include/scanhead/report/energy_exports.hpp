@@ -35,6 +35,31 @@ double addFieldImageTasks(TaskPool& pool, const std::string& dir, const std::str
                           std::shared_ptr<const EnergyMap> map, const std::string& description,
                           const FieldUnits& units = FieldUnits());
 
+/// \brief The grids the energy exports draw, read from the tiled map: the overview (energy_map.*) and each crop
+/// (crops/<name>.*), with the descriptions their files carry.
+struct EnergyMapViews
+{
+  struct View
+  {
+    std::string stem;                       ///< file stem
+    std::shared_ptr<const EnergyMap> grid;  ///< full resolution, or block means
+    std::string description;
+  };
+  View overview;
+  std::vector<View> crops;
+};
+
+/// \brief The regions writeEnergyExports crops: the first config.crop_parts parts of \p job, then every
+/// config.crop_regions region. \throws ConfigError from parseMapRegions
+std::vector<MapRegion> exportCrops(const Job& job, const EnergyConfig& config);
+
+/// \brief Reads the overview and the \p crops from \p map (not thread-safe: the map's tile cache may load spilled
+/// tiles). A run reads them while its last pass runs on the other core (EnergyStage::mapViews), not while writing.
+EnergyMapViews readEnergyMapViews(const TiledEnergyMap& map, const std::vector<MapRegion>& crops);
+
+/// \brief The image tasks of \p views (three a grid, addFieldImageTasks) into \p dir; the crops folder is created now.
+void addEnergyViewTasks(TaskPool& pool, const std::string& dir, const EnergyMapViews& views);
+
 /// \brief writeEnergyExports as tasks of \p pool: one reads the tiled map (the overview, then each
 /// crop) and adds each block's image tasks; \p map, \p pool must outlive pool.run(). The crops
 /// folder is created now.
