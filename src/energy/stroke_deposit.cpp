@@ -21,6 +21,69 @@ constexpr double kErfSaturated = 6.0;  // erf(±6) = ±1 in double (erfc 6 = 2.2
 // 3.7e-9 at 0.5: no more than the lane erf's 4e-6). √A = 1 is 25 µm at w = 35 µm: 2-sample strokes at 1 m/s.
 constexpr double kShortStroke = 1.0;
 
+/// Blocks between two exact evaluations of GaussianSteps (bounds the growth of the products' rounding).
+constexpr int kAnchorBlocks = 8;
+
+/// \brief e^{−Q(k)} on the 8 lanes of consecutive blocks of a row, Q(k) = (s0 + k·ds)² + (u0 + k·du)² (u0 = du = 0:
+/// the cross factor e^{−s²} alone).
+///
+/// Q is quadratic in k, so e^{−Q} is geometric to second order: with D(k) = Q(k + 8) − Q(k) and the block's first
+/// column k, E ← E·e^{−D}, e^{−D} ← e^{−D}·q, q = e^{−128A}, A = ds² + du². Two exponentials every kAnchorBlocks
+/// blocks (each argument formed in double at the block's first column, the lanes added in float, as the exact
+/// evaluation does) and two products a block in between, instead of one exponential a block. Error: the float
+/// rounding of D (|D| ≲ 20 in the capsule: ~1e-6) compounds over ≤ kAnchorBlocks products, ≤ ~8e-6 relative to the
+/// value and ~1e-6 of the stroke's peak (where D is large the value is small), inside float's precision of the
+/// exact form's own arguments and far inside issue 13's 2e-3.
+struct GaussianSteps
+{
+  double s0 = 0.0, ds = 0.0, u0 = 0.0, du = 0.0;
+  energy_detail::F8 e, r;
+  energy_detail::F8 q;
+  int left = 0;  ///< blocks before the next anchor
+
+  /// \param[in] q_block e^{−128(ds² + du²)}, rounded to float (gaussianRatio: once a stroke)
+  SCANHEAD_LANE_INLINE GaussianSteps(double s_first, double s_step, double u_first, double u_step, float q_block)
+    : s0(s_first)
+    , ds(s_step)
+    , u0(u_first)
+    , du(u_step)
+    , q(energy_detail::splat(q_block))
+  {
+  }
+  /// \brief The lanes of the block starting at column \p k0 (blocks in order, 8 columns apart; the row's last block
+  /// starts before \p end).
+  SCANHEAD_LANE_INLINE energy_detail::F8 next(int k0, int end)
+  {
+    using namespace energy_detail;
+    if (left == 0)
+    {
+      const F8 lane = laneIndex();
+      const double s = s0 + k0 * ds, u = u0 + k0 * du;
+      const F8 sl = splat(static_cast<float>(s)) + splat(static_cast<float>(ds)) * lane;
+      const F8 ul = splat(static_cast<float>(u)) + splat(static_cast<float>(du)) * lane;
+      e = expNeg(sl * sl + ul * ul);
+      if (end - k0 <= 8)
+        return e;  // the last block: no ratio needed
+      // D at the lanes: 16(s·ds + u·du) + 64A + 16A·l.
+      const double a = ds * ds + du * du;
+      r = expNeg(splat(static_cast<float>(16.0 * (s * ds + u * du) + 64.0 * a)) +
+                 splat(static_cast<float>(16.0 * a)) * lane);
+      left = kAnchorBlocks;
+    }
+    const F8 value = e;
+    e = e * r;
+    r = r * q;
+    --left;
+    return value;
+  }
+};
+
+/// \brief GaussianSteps' q for the steps \p ds, \p du of a stroke's rows.
+float gaussianRatio(double ds, double du)
+{
+  return static_cast<float>(std::exp(-128.0 * (ds * ds + du * du)));
+}
+
 /// \brief Narrows [lo, hi] to the x with c_lo ≤ α·x + β ≤ c_hi.
 void clampLinear(double alpha, double beta, double c_lo, double c_hi, double& lo, double& hi)
 {
@@ -81,35 +144,41 @@ struct ShortRow
 {
   double s0 = 0.0, ds = 0.0, u0 = 0.0, du = 0.0;
   double c[4] = {}, a[4] = {};
+  // The same on every row of a stroke (computed once a stroke):
+  float lanes[4][8] = {};  ///< e^{2c_i·du·l}, l = 0..7
+  float advance[4] = {};   ///< e^{16 c_i du}
+  float gauss_q = 0.0f;    ///< gaussianRatio(ds, du)
 };
 
 /// \brief w[k] for the ShortRow, k < n rounded up to a multiple of 8.
 ///
-/// s² + (u − c)² = (s² + u²) − 2cu + c², so W = exp(−s² − u²)·Σ_i a_i e^{−c_i²}·e^{2c_i u}: one exponential a pixel
-/// for the common Gaussian, and each node's e^{2c_i u_k} is geometric in k (ratio e^{2c_i du}): its 8 lanes are
-/// evaluated once a row and advanced by e^{16 c_i du} a block (relative error ~1e-7 a block; a short stroke's row
-/// has ≤ (2R + √A·w)/p pixels, a few blocks). With √A ≤ 1 (kShortStroke) |2c_i u| ≤ |u|, a few units in the
-/// capsule: far inside float's range (and expNeg clamps its argument anyway).
+/// s² + (u − c)² = (s² + u²) − 2cu + c², so W = exp(−s² − u²)·Σ_i a_i e^{−c_i²}·e^{2c_i u}: the common Gaussian by
+/// GaussianSteps, and each node's e^{2c_i u_k} = [a_i e^{2c_i u0 − c_i²}]·e^{2c_i du·l}·e^{16 c_i du·b} (block b, lane
+/// l): one scalar exponential a node a row, the lane and block factors once a stroke (relative error ~1e-7 a block;
+/// a short stroke's row has ≤ (2R + √A·w)/p pixels, a few blocks). With √A ≤ 1 (kShortStroke) |2c_i u| ≤ 2|u|, a
+/// few units in the capsule: far inside float's range.
 __attribute__((target_clones("avx2", "default"))) double shortRowLanes(const ShortRow& r, int n, float* w)
 {
   using namespace energy_detail;
-  const F8 lane = laneIndex();
   F8 total = splat(0.0f);
-  const F8 ds = splat(static_cast<float>(r.ds)) * lane, du = splat(static_cast<float>(r.du)) * lane;
+  // a_i·e^{2c_i u0 − c_i²} of the four nodes in the first lanes of one exponential (arguments rounded once).
+  const F8 row_factors =
+      expNeg(F8{static_cast<float>(r.c[0] * (r.c[0] - 2.0 * r.u0)), static_cast<float>(r.c[1] * (r.c[1] - 2.0 * r.u0)),
+                static_cast<float>(r.c[2] * (r.c[2] - 2.0 * r.u0)), static_cast<float>(r.c[3] * (r.c[3] - 2.0 * r.u0)),
+                0.0f, 0.0f, 0.0f, 0.0f});
   F8 node[4], advance[4];
+#pragma GCC unroll 4
   for (int i = 0; i < 4; ++i)
   {
-    // a_i·e^{−c_i²}·e^{2c_i(u0 + l·du)}, lanes l = 0..7, and the ratio e^{2c_i·8du} from one block to the next.
-    const F8 arg = splat(static_cast<float>(r.c[i] * r.c[i] - 2.0 * r.c[i] * r.u0)) -
-                   splat(2.0f * static_cast<float>(r.c[i])) * du;
-    node[i] = splat(static_cast<float>(r.a[i])) * expNeg(arg);
-    advance[i] = splat(static_cast<float>(std::exp(16.0 * r.c[i] * r.du)));
+    F8 lanes;
+    std::memcpy(&lanes, r.lanes[i], sizeof lanes);
+    node[i] = splat(static_cast<float>(r.a[i]) * row_factors[i]) * lanes;
+    advance[i] = splat(r.advance[i]);
   }
+  GaussianSteps gaussian(r.s0, r.ds, r.u0, r.du, r.gauss_q);
   for (int k0 = 0; k0 < n; k0 += 8)
   {
-    const F8 s = splat(static_cast<float>(r.s0 + k0 * r.ds)) + ds;
-    const F8 u = splat(static_cast<float>(r.u0 + k0 * r.du)) + du;
-    const F8 value = expNeg(s * s + u * u) * ((node[0] + node[1]) + (node[2] + node[3]));
+    const F8 value = gaussian.next(k0, n) * ((node[0] + node[1]) + (node[2] + node[3]));
     std::memcpy(w + k0, &value, sizeof value);
     accumulate(total, value, n - k0);
     for (int i = 0; i < 4; ++i)
@@ -122,6 +191,7 @@ __attribute__((target_clones("avx2", "default"))) double shortRowLanes(const Sho
 struct ErfRow
 {
   double s0 = 0.0, ds = 0.0, u0 = 0.0, du = 0.0, sqrt_a = 0.0;
+  float gauss_q = 0.0f;  ///< gaussianRatio(ds, 0): the same on every row of a stroke
 };
 
 /// \brief w[k] = W at columns k ∈ [begin, end) rounded up to a multiple of 8 from begin; \p saturated: the bracket is
@@ -132,13 +202,12 @@ __attribute__((target_clones("avx2", "default"))) double erfRowLanes(const ErfRo
                                                                      bool saturated, float* w)
 {
   using namespace energy_detail;
-  const F8 lane = laneIndex();
   F8 total = splat(0.0f);
-  const F8 ds = splat(static_cast<float>(r.ds)) * lane, du = splat(static_cast<float>(r.du)) * lane;
+  const F8 du = splat(static_cast<float>(r.du)) * laneIndex();
+  GaussianSteps gaussian(r.s0, r.ds, 0.0, 0.0, r.gauss_q);
   for (int k0 = begin; k0 < end; k0 += 8)
   {
-    const F8 s = splat(static_cast<float>(r.s0 + k0 * r.ds)) + ds;
-    const F8 cross = expNeg(s * s);
+    const F8 cross = gaussian.next(k0, end);
     F8 value;
     if (saturated)
       value = splat(2.0f) * cross;
@@ -202,8 +271,25 @@ void StrokeDeposit::weigh(const TiledEnergyMap& map, const Stroke& stroke, Strok
   const double length = d.norm();
   const Eigen::Vector2d t = length > 0.0 ? Eigen::Vector2d(d / length) : Eigen::Vector2d(1.0, 0.0);
   const Eigen::Vector2d nrm(-t.y(), t.x());
-  // Per-stroke constants of the row recurrences (curvatures along a row, in columns).
+  // Per-stroke constants of the row recurrences (curvatures along a row, in columns; a short stroke's nodes).
   const double alpha_stationary = si.qxx * p * p;
+  ShortRow short_row;
+  if (!si.stationary && si.sqrt_a <= kShortStroke)
+  {
+    short_row.ds = si.m.x() * p;
+    short_row.du = si.g.x() * p;
+    for (int i = 0; i < 4; ++i)
+    {
+      short_row.c[i] = si.sqrt_a * kGaussNodes[i];
+      short_row.a[i] = 2.0 / std::sqrt(M_PI) * si.sqrt_a * kGaussWeights[i];
+      short_row.advance[i] = static_cast<float>(std::exp(16.0 * short_row.c[i] * short_row.du));
+      const energy_detail::F8 lanes = energy_detail::expNeg(
+          energy_detail::splat(static_cast<float>(-2.0 * short_row.c[i] * short_row.du)) * energy_detail::laneIndex());
+      std::memcpy(short_row.lanes[i], &lanes, sizeof lanes);
+    }
+    short_row.gauss_q = gaussianRatio(short_row.ds, short_row.du);
+  }
+  const float erf_q = gaussianRatio(si.m.x() * p, 0.0);
   std::vector<float>& weights = out.weights;
   std::size_t used = 0;
   double total = 0.0;
@@ -256,16 +342,9 @@ void StrokeDeposit::weigh(const TiledEnergyMap& map, const Stroke& stroke, Strok
     {
       // A short stroke: erf(u) − erf(u − √A) = (2/√π)∫ e^{−x²} over [u − √A, u] by 4-point Gauss–Legendre, so
       // W = (2/√π)·√A·Σ_i w_i·exp(−s² − (u − √A τ_i)²) (shortRowLanes).
-      ShortRow g;
+      ShortRow& g = short_row;  // the stroke's constants, this row's start
       g.s0 = si.m.x() * x0 + si.m.y() * ry;
-      g.ds = si.m.x() * p;
       g.u0 = si.g.x() * x0 + si.g.y() * ry;
-      g.du = si.g.x() * p;
-      for (int i = 0; i < 4; ++i)
-      {
-        g.c[i] = si.sqrt_a * kGaussNodes[i];
-        g.a[i] = 2.0 / std::sqrt(M_PI) * si.sqrt_a * kGaussWeights[i];
-      }
       row_sum = shortRowLanes(g, n, w);
     }
     else
@@ -278,6 +357,7 @@ void StrokeDeposit::weigh(const TiledEnergyMap& map, const Stroke& stroke, Strok
       e.u0 = si.g.x() * x0 + si.g.y() * ry;
       e.du = si.g.x() * p;
       e.sqrt_a = si.sqrt_a;
+      e.gauss_q = erf_q;
       int ka = n, kb = n;
       const double u_lo = kErfSaturated, u_hi = si.sqrt_a - kErfSaturated;
       if (u_lo < u_hi)

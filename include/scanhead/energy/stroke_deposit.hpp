@@ -41,9 +41,12 @@ struct StrokeWeights
 /// expf, relative error ≤ 2 ulp; erf by Abramowitz & Stegun 7.1.28, |error| ≤ 4e-6 in float; AVX2 and default clones
 /// give the same bits): the cross factor exp(−(mᵀr)²) everywhere, the bracket erf(√A − u) + erf(u) only outside the run
 /// where |u| and |√A − u| exceed 6 (there it is 2 to float precision); short strokes (√A ≤ 1) by 4-point
-/// Gauss–Legendre in τ (one exponential a pixel: the nodes' factors are geometric along a row), stationary ones as the
-/// dwell's Gaussian. Every argument is formed in double at the first column of a block of 8 and rounded once, so the
-/// weights keep float precision (~1e-6 of the peak, far inside the 2e-3 budget of issue 13) on any row. Rows are stored
+/// Gauss–Legendre in τ (the nodes' factors are geometric along a row), stationary ones as the dwell's Gaussian. The
+/// Gaussians of the erf and short forms are quadratic exponents along a row: two exponentials every 8 blocks and two
+/// products a block between (GaussianSteps in the .cpp; the THESIS layer's energy CPU time −7 %). Every argument is
+/// formed in double at the first column of a block of 8 and rounded once, so the weights keep float precision (~1e-6
+/// of the peak, far inside the 2e-3 budget of issue 13: measured 1.2e-6 against the exponential a block) on any row.
+/// Rows are stored
 /// as floats, summed in a fixed order, then added with TiledEnergyMap::addRow (one tile lookup per row span). Cost:
 /// ~(2R/p)·(L/p + 2R/p) pixel weights per stroke of length L (a long stroke: 2R/p = 35 new pixels per pixel of length
 /// at 5 µm), ~1 ns each on AVX2.
