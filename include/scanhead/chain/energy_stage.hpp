@@ -41,6 +41,8 @@ public:
   /// pass on a second thread while the map is read: for the track's energy, the corner peaks, then mapViews()).
   RunMetrics finish();
 
+  /// \brief The energy map: complete after finish() (with stream.threads = 2 the strokes of the last chunk processed
+  /// are added during the next one).
   const TiledEnergyMap& map() const { return accumulator_.map(); }
   /// \brief The overview and crops the results show (report/energy_exports.hpp), read from the map once: by
   /// finish() with stream.threads = 2, else at the first call (after finish()). Not thread-safe.
