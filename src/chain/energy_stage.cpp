@@ -160,7 +160,7 @@ void EnergyStage::process(const SpotChunk& chunk)
     side_error = std::current_exception();
   }
   if (weigh_error)
-    std::rethrow_exception(weigh_error);  // (out of memory) some strokes have no weights
+    std::rethrow_exception(weigh_error);  // (out of memory, a spill file error) the batches wait
   if (side_error)
   {
     accumulator_.applyStaged();  // as on one thread: the map holds every stroke merged before the error
@@ -304,6 +304,9 @@ RunMetrics EnergyStage::finish()
     m.corner_peak_to_track_mean = ratio_sum / static_cast<double>(m.corners.size());
   // The results' overview and crops read the whole map: here, while the nearest-path pass holds the other core (on the
   // THESIS layer it outlasts the track's pass by seconds), rather than in the results phase after it.
+  // (The map's memory is taken before: the views' reads fill the spill file's block cache, and on one thread they come
+  // after the metrics, in the results phase.)
+  const std::size_t map_peak_bytes = accumulator_.map().peakResidentBytes();
   if (config_.stream.threads >= 2)
     mapViews();
   m.quality = quality.get();
@@ -319,7 +322,7 @@ RunMetrics EnergyStage::finish()
   m.map_tiles = accumulator_.map().tilesTouched();
   m.map_tiles_spilled = accumulator_.map().tilesSpilled();
   m.map_spill_file_bytes = accumulator_.map().spillFileBytes();
-  m.peak_memory_bytes = accumulator_.map().peakResidentBytes() + m.quality.memory_bytes + track_peak_bytes_;
+  m.peak_memory_bytes = map_peak_bytes + m.quality.memory_bytes + track_peak_bytes_;
   return m;
 }
 }  // namespace scanhead

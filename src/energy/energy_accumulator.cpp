@@ -47,7 +47,7 @@ void EnergyAccumulator::reset()
   merger_.reset();
   staged_.clear();
   staged_pixels_ = 0.0;
-  ready_count_ = 0;
+  ready_count_ = ready_applied_ = staged_applied_ = 0;
   next_to_weigh_->store(0);
   stroke_deposit_.resetCounters();
   samples_ = strokes_ = 0;
@@ -165,16 +165,18 @@ void EnergyAccumulator::weighStaged()
 
 namespace
 {
-/// \brief Adds the first \p count weights of \p batch to the map in order; a slot grown large is freed after use.
+/// \brief Adds weights \p done … \p count − 1 of \p batch to the map in order, \p done counting them (an error
+/// part-way, e.g. of the spill file, leaves it at the stroke that failed: a retry never adds a stroke twice); a slot
+/// grown large is freed after use.
 void applyBatch(StrokeDeposit& deposit, TiledEnergyMap& map, std::vector<StrokeWeights>& batch, std::size_t count,
-                double& outside_j)
+                std::size_t& done, double& outside_j)
 {
   constexpr std::size_t kKeptSlotFloats = std::size_t{1} << 16;
-  for (std::size_t k = 0; k < count; ++k)
+  for (; done < count; ++done)
   {
-    deposit.apply(map, batch[k], outside_j);
-    if (batch[k].weights.size() > kKeptSlotFloats)
-      batch[k] = StrokeWeights();
+    deposit.apply(map, batch[done], outside_j);
+    if (batch[done].weights.size() > kKeptSlotFloats)
+      batch[done] = StrokeWeights();
   }
 }
 }  // namespace
@@ -182,7 +184,8 @@ void applyBatch(StrokeDeposit& deposit, TiledEnergyMap& map, std::vector<StrokeW
 void EnergyAccumulator::applyStaged()
 {
   applyReady();  // the batch set aside came first in the stream
-  applyBatch(stroke_deposit_, map_, staged_weights_, staged_.size(), outside_j_);
+  applyBatch(stroke_deposit_, map_, staged_weights_, staged_.size(), staged_applied_, outside_j_);
+  staged_applied_ = 0;
   staged_.clear();
   staged_pixels_ = 0.0;
   next_to_weigh_->store(0);
@@ -193,6 +196,8 @@ void EnergyAccumulator::retireStaged()
   applyReady();  // at most one batch waits
   std::swap(staged_weights_, ready_weights_);
   ready_count_ = staged_.size();
+  ready_applied_ = staged_applied_;  // 0: a batch is retired whole
+  staged_applied_ = 0;
   staged_.clear();
   staged_pixels_ = 0.0;
   next_to_weigh_->store(0);
@@ -200,8 +205,8 @@ void EnergyAccumulator::retireStaged()
 
 void EnergyAccumulator::applyReady()
 {
-  applyBatch(stroke_deposit_, map_, ready_weights_, ready_count_, outside_j_);
-  ready_count_ = 0;
+  applyBatch(stroke_deposit_, map_, ready_weights_, ready_count_, ready_applied_, outside_j_);
+  ready_count_ = ready_applied_ = 0;
 }
 
 void EnergyAccumulator::drawStaged()

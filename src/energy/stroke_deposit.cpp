@@ -289,7 +289,7 @@ void StrokeDeposit::weigh(const TiledEnergyMap& map, const Stroke& stroke, Strok
     }
     short_row.gauss_q = gaussianRatio(short_row.ds, short_row.du);
   }
-  const float erf_q = gaussianRatio(si.m.x() * p, 0.0);
+  const float erf_q = !si.stationary && si.sqrt_a > kShortStroke ? gaussianRatio(si.m.x() * p, 0.0) : 0.0f;
   std::vector<float>& weights = out.weights;
   std::size_t used = 0;
   double total = 0.0;

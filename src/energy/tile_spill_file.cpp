@@ -11,7 +11,6 @@
 #include <cstring>
 #include <exception>
 #include <new>
-#include <utility>
 
 #include "scanhead/common/errors.hpp"
 
@@ -192,12 +191,22 @@ void TileSpillFile::write(std::vector<Pending>& tiles)
 
 void TileSpillFile::finishWrites()
 {
+  if (in_flight_)
+  {
+    in_flight_ = false;
+    try
+    {
+      writer_->wait();  // rethrows the writer's InputError
+    }
+    catch (...)
+    {
+      write_error_ = std::current_exception();
+    }
+  }
+  // Sticky: the file lacks the tiles of the failed batch (their buffers were reused), so every later write or read
+  // fails too instead of reading a hole; only clear() forgets it.
   if (write_error_)
-    std::rethrow_exception(std::exchange(write_error_, nullptr));
-  if (!in_flight_)
-    return;
-  in_flight_ = false;
-  writer_->wait();  // rethrows the writer's InputError
+    std::rethrow_exception(write_error_);
 }
 
 void TileSpillFile::finishWritesQuietly() noexcept
@@ -208,7 +217,7 @@ void TileSpillFile::finishWritesQuietly() noexcept
   }
   catch (...)
   {
-    write_error_ = std::current_exception();
+    // kept in write_error_: thrown again by the next call that needs the file
   }
 }
 

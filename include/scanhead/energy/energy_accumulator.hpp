@@ -96,6 +96,8 @@ private:
   std::vector<StrokeWeights> staged_weights_;  ///< slot k: staged_[k]'s weights (slots kept between batches)
   std::vector<StrokeWeights> ready_weights_;   ///< the batch retireStaged() set aside, in stream order
   std::size_t ready_count_ = 0;                ///< its strokes (slots beyond are spare)
+  std::size_t ready_applied_ = 0;              ///< of them, added to the map (an error may stop part-way)
+  std::size_t staged_applied_ = 0;             ///< staged strokes added to the map (likewise)
   double staged_pixels_ = 0.0;                 ///< upper estimate of the staged strokes' weights
   /// Next staged stroke to weigh (on the heap: keeps the accumulator movable).
   std::unique_ptr<std::atomic<std::size_t>> next_to_weigh_ = std::make_unique<std::atomic<std::size_t>>(0);

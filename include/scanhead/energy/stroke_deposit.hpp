@@ -46,8 +46,8 @@ struct StrokeWeights
 /// products a block between (GaussianSteps in the .cpp; the THESIS layer's energy CPU time −7 %). Every argument is
 /// formed in double at the first column of a block of 8 and rounded once, so the weights keep float precision (~1e-6
 /// of the peak, far inside the 2e-3 budget of issue 13: measured 1.2e-6 against the exponential a block) on any row.
-/// Rows are stored
-/// as floats, summed in a fixed order, then added with TiledEnergyMap::addRow (one tile lookup per row span). Cost:
+/// Rows are stored as floats, summed in a fixed order, then added with TiledEnergyMap::addRow (one tile lookup per row
+/// span). Cost:
 /// ~(2R/p)·(L/p + 2R/p) pixel weights per stroke of length L (a long stroke: 2R/p = 35 new pixels per pixel of length
 /// at 5 µm), ~1 ns each on AVX2.
 class StrokeDeposit

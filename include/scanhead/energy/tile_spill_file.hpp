@@ -39,7 +39,8 @@ AlignedFloats allocateAligned(std::size_t count);
 /// Writes run in the background: write() copies the batch into a staging buffer and returns while a writer thread
 /// sends it to the file (on the THESIS layer the map's thread waited ~5 s for 5.3 GB of direct writes). One batch is
 /// in flight at most: the next write() and any read of the file wait for it first, and an error of the background
-/// write is thrown there (or by finishWrites()). The staging buffer holds the largest batch (cacheBytes() counts it).
+/// write is thrown there (or by finishWrites()), and by every later write or read (the file lacks those tiles). The
+/// staging buffer holds the largest batch (cacheBytes() counts it).
 class TileSpillFile
 {
 public:
@@ -101,7 +102,7 @@ private:
   /// \brief pwrite or pread of all \p bytes (retried on EINTR; O_DIRECT dropped if a transfer is refused with it).
   void transfer(bool writing, std::int64_t offset, void* data, std::size_t bytes);
   Block& blockFor(std::int64_t tile_offset);
-  void finishWritesQuietly() noexcept;  ///< finishWrites() keeping its error for the next call
+  void finishWritesQuietly() noexcept;  ///< finishWrites() keeping its error for the next call (destructor, moves)
 
   std::size_t tile_bytes_ = 0, block_bytes_ = 0, max_blocks_ = 1;
   std::string dir_;
@@ -121,6 +122,6 @@ private:
   std::vector<Run> runs_;
   std::unique_ptr<SideThread> writer_;  ///< created at the first write
   bool in_flight_ = false;
-  std::exception_ptr write_error_;  ///< of a background write nobody has waited for yet
+  std::exception_ptr write_error_;  ///< of a failed background write (sticky until clear())
 };
 }  // namespace scanhead

@@ -23,11 +23,11 @@ namespace scanhead
 /// Pixels live in tiles of kTileSide² floats (tile (ti, tj) holds columns [ti·S, ti·S + S) and rows
 /// [tj·S, tj·S + S)). A dense directory maps each tile to its slot (4 B per tile: 4.8 MB for a
 /// 350 mm field at 5 µm). At most cache_bytes of tiles and spill-file buffers are resident: when the tiles' share
-/// (7/9 of 7/8) is full, the oldest eighth (by last use) is written to a TileSpillFile in one batch (in the background,
-/// from its staging buffer: the rest of the 7/8), in tile order at consecutive offsets, and read back through its
-/// block cache (the other 1/8, blocks of up to 64 tiles) when touched again. Values never depend on what was spilled:
-/// the same deposits give the same floats, bit for bit. Reading methods are const but may load tiles (the cache is
-/// mutable). Move-only (it owns the spill file).
+/// (8/9 of 7/8: 7/9 of it) is full, the oldest eighth (by last use) is written to a TileSpillFile in one batch (in the
+/// background, from its staging buffer: the rest of the 7/8), in tile order at consecutive offsets, and read back
+/// through its block cache (the other 1/8, blocks of up to 64 tiles) when touched again. Values never depend on what
+/// was spilled: the same deposits give the same floats, bit for bit. Reading methods are const but may load tiles (the
+/// cache is mutable). Move-only (it owns the spill file).
 class TiledEnergyMap
 {
 public:
@@ -86,7 +86,7 @@ public:
   void finishWrites() const { spill_.finishWrites(); }
   const TileSpillFile& spillFile() const { return spill_; }
 
-  /// \brief How a map divides cache_bytes: tiles resident at most (7/9 of 7/8 of it, ≥ 16 tiles); the rest of the 7/8
+  /// \brief How a map divides cache_bytes: tiles resident at most (8/9 of 7/8 of it, ≥ 16 tiles); the rest of the 7/8
   /// is the spill file's staging buffer (stagingBytesFor: one eviction batch, an eighth of the tiles).
   static std::size_t residentTilesFor(std::size_t cache_bytes);
   /// \brief The spill file's staging buffer at most (the largest eviction batch) [bytes].
