@@ -142,20 +142,10 @@ void addEnergyViewTasks(TaskPool& pool, const std::string& dir_text, const Energ
 void addEnergyExportTasks(TaskPool& pool, const std::string& dir_text, const TiledEnergyMap& map, const Job& job,
                           const EnergyConfig& config)
 {
-  const fs::path dir(dir_text);
-  const std::vector<MapRegion> crops = exportCrops(job, config);
-  if (!crops.empty())
-    fs::create_directory(dir / "crops");
-  // The tiled map's reads are not thread-safe (its tile cache may load spilled tiles): one task
-  // reads every block of it, the overview first; the images of each block are tasks of their own.
-  pool.add([&pool, dir, &map, crops] {
-    const EnergyMapViews::View overview = overviewView(map);
-    addFieldImageTasks(pool, dir.string(), overview.stem, overview.grid, overview.description);
-    for (const MapRegion& crop : crops)
-    {
-      const EnergyMapViews::View view = cropView(map, crop);
-      addFieldImageTasks(pool, (dir / "crops").string(), view.stem, view.grid, view.description);
-    }
+  // The tiled map's reads are not thread-safe (its tile cache may load spilled tiles): one task reads every grid of
+  // it, then adds each grid's image tasks.
+  pool.add([&pool, dir_text, &map, crops = exportCrops(job, config)] {
+    addEnergyViewTasks(pool, dir_text, readEnergyMapViews(map, crops));
   });
 }
 

@@ -60,9 +60,8 @@ EnergyMapViews readEnergyMapViews(const TiledEnergyMap& map, const std::vector<M
 /// \brief The image tasks of \p views (three a grid, addFieldImageTasks) into \p dir; the crops folder is created now.
 void addEnergyViewTasks(TaskPool& pool, const std::string& dir, const EnergyMapViews& views);
 
-/// \brief writeEnergyExports as tasks of \p pool: one reads the tiled map (the overview, then each
-/// crop) and adds each block's image tasks; \p map, \p pool must outlive pool.run(). The crops
-/// folder is created now.
+/// \brief writeEnergyExports as tasks of \p pool: one reads the tiled map (readEnergyMapViews) and
+/// adds the grids' image tasks (addEnergyViewTasks); \p map, \p pool must outlive pool.run().
 /// \throws ConfigError from parseMapRegions
 void addEnergyExportTasks(TaskPool& pool, const std::string& dir, const TiledEnergyMap& map, const Job& job,
                           const EnergyConfig& config);
