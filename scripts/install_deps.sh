@@ -18,6 +18,8 @@ packages=(
   python3-nav-msgs python3-visualization-msgs python3-tf2-msgs python3-bond
   ros-robot-state-publisher python3-matplotlib python3-numpy python3-yaml python3-pil rviz
   clang libclang-rt-14-dev
+  # independent check of the H∞ synthesis (test_hinf_synthesis runs Octave's hinfsyn when installed)
+  octave octave-control
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -118,6 +118,18 @@ void visitSettings(Config& c, F&& f)
   f("servo.controller_rate_hz", c.servo.controller_rate_hz);
   f("servo.feedforward_derivatives", c.servo.feedforward_derivatives);
   f("servo.voltage_feedforward", c.servo.voltage_feedforward);
+  f("servo.position_controller", c.servo.position_controller);
+  f("servo.hinf.w1.g0", c.servo.hinf.w1.g0);
+  f("servo.hinf.w1.ginf", c.servo.hinf.w1.ginf);
+  f("servo.hinf.w1.w0_rad_s", c.servo.hinf.w1.w0_rad_s);
+  f("servo.hinf.w2.g0", c.servo.hinf.w2.g0);
+  f("servo.hinf.w2.ginf", c.servo.hinf.w2.ginf);
+  f("servo.hinf.w2.w0_rad_s", c.servo.hinf.w2.w0_rad_s);
+  f("servo.hinf.w3.g0", c.servo.hinf.w3.g0);
+  f("servo.hinf.w3.ginf", c.servo.hinf.w3.ginf);
+  f("servo.hinf.w3.w0_rad_s", c.servo.hinf.w3.w0_rad_s);
+  f("servo.hinf.gamma_tolerance", c.servo.hinf.gamma_tolerance);
+  f("servo.hinf.reduced_order", c.servo.hinf.reduced_order);
   f("optics.urdf_path", c.optics.urdf_path);
   f("optics.defects", c.optics.defects);
   f("optics.window_thickness_m", c.optics.window_thickness_m);

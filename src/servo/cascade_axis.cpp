@@ -8,6 +8,7 @@
 #include "cascade_controller_update.hpp"
 #include "lanes.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/servo/hinf/hinf_loops.hpp"
 #include "scanhead/servo/loop_analysis.hpp"
 
 namespace scanhead
@@ -60,11 +61,11 @@ void unzip(const S<Double2>& in, S<double>& a, S<double>& b)
 }  // namespace
 
 CascadeAxis::CascadeAxis(const AxisLoopConfig& config, double period_s, double controller_rate_hz, bool differentiate,
-                         bool voltage_feedforward)
+                         bool voltage_feedforward, const HinfDesign* hinf)
   : plant_(config.plant)
   , controller_(config.gains, config.plant.inertia_kgm2 / config.plant.torque_constant_nm_per_a,
                 1.0 / controller_rate_hz, config.plant.supply_voltage_v, differentiate, config.plant,
-                voltage_feedforward)
+                voltage_feedforward, hinf)
   , period_s_(period_s)
   , controller_period_s_(1.0 / controller_rate_hz)
 {
@@ -88,7 +89,9 @@ CascadeAxis::CascadeAxis(const AxisLoopConfig& config, double period_s, double c
     ticks_per_sample_ = 1;
   }
   // The delay of the linear model: exact derivatives or the filtered ones, same transfer function.
-  delay_s_ = scanhead::lowFrequencyDelay(config.plant, config.gains, controller_period_s_, voltage_feedforward);
+  delay_s_ = hinf != nullptr
+                 ? hinfLowFrequencyDelay(config.plant, config.gains, *hinf, controller_period_s_, voltage_feedforward)
+                 : scanhead::lowFrequencyDelay(config.plant, config.gains, controller_period_s_, voltage_feedforward);
 }
 
 void CascadeAxis::reset(double position_rad)
@@ -157,7 +160,8 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void CascadeAxis::s
   const bool lockstep = x.ticks_per_sample_ == 1 && y.ticks_per_sample_ == 1 &&
                         x.samples_per_tick_ == y.samples_per_tick_ && x.phase_ == y.phase_ &&
                         x.period_s_ == y.period_s_ && x.controller_.differentiate_ == y.controller_.differentiate_ &&
-                        x.controller_.voltage_ff_ == y.controller_.voltage_ff_;
+                        x.controller_.voltage_ff_ == y.controller_.voltage_ff_ && !x.controller_.hinf_ &&
+                        !y.controller_.hinf_;
   if (!lockstep)
   {
     for (; k < n; ++k)

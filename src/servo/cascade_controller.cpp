@@ -1,6 +1,7 @@
 /// \file cascade_controller.cpp
 #include "scanhead/servo/cascade_controller.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cascade_controller_update.hpp"
@@ -8,10 +9,14 @@
 namespace scanhead
 {
 CascadeController::CascadeController(const CascadeGains& gains, double jeq_over_kc, double period_s, double supply_v,
-                                     bool differentiate, const GalvoPlantParams& plant, bool voltage_feedforward)
+                                     bool differentiate, const GalvoPlantParams& plant, bool voltage_feedforward,
+                                     const HinfDesign* hinf)
   : differentiate_(differentiate)
   , voltage_ff_(voltage_feedforward)
+  , hinf_(hinf != nullptr)
 {
+  if (hinf_)
+    hinf_controller_ = HinfPositionController(*hinf, period_s);
   const double t = period_s;
   CascadeControllerCoefficients<double>& k = k_;
   k.lp_a = gains.tauf_s > 0.0 ? std::exp(-t / gains.tauf_s) : 0.0;
@@ -43,12 +48,31 @@ void CascadeController::reset(double angle_rad)
 {
   s_ = CascadeControllerState<double>{};
   s_.theta_ref_prev = angle_rad;
+  hinf_controller_.reset();
 }
 
 double CascadeController::update(double theta_ref, double omega_ref, double alpha_ref, double theta, double omega,
                                  double current)
 {
+  if (hinf_)
+    return updateHinf(theta_ref, omega_ref, alpha_ref, theta, current);
   return cascadeControllerUpdate(k_, s_, differentiate_, voltage_ff_, theta_ref, omega_ref, alpha_ref, theta, omega,
                                  current);
+}
+
+double CascadeController::updateHinf(double theta_ref, double omega_ref, double alpha_ref, double theta, double current)
+{
+  double w_ff, a_ff;
+  feedforwardSignals(k_, s_, differentiate_, theta_ref, omega_ref, alpha_ref, w_ff, a_ff);
+  const double i_ff = k_.k2_jeq * a_ff;
+  s_.omega_ref = k_.k1 * w_ff;  // no speed loop: reported as the speed feedforward
+  s_.i_ref = hinf_controller_.update((theta_ref - theta) * (180.0 / M_PI)) + i_ff;
+  double int_i_new;
+  const double u = currentLoop(k_, s_, voltage_ff_, w_ff, i_ff, current, int_i_new);
+  const bool saturated = std::abs(u) > k_.supply_v && s_.e_i_prev * u > 0.0;
+  if (!saturated)
+    s_.int_i = int_i_new;
+  hinf_controller_.commit(saturated);
+  return std::clamp(u, -k_.supply_v, k_.supply_v);
 }
 }  // namespace scanhead

@@ -9,19 +9,11 @@
 
 namespace scanhead
 {
-/// \brief One controller sample; returns the voltage saturated to ±supply [V].
-/// \param[in] differentiate, voltage_ff  the controller's modes (the same for every lane)
+/// \brief The feedforward signals ω_ff = s/(1+τf s) θref and α_ff = s²/(1+τf s)² θref of one sample.
 template <class T>
-inline T cascadeControllerUpdate(const CascadeControllerCoefficients<T>& k, CascadeControllerState<T>& s,
-                                 bool differentiate, bool voltage_ff, T theta_ref, T omega_ref, T alpha_ref, T theta,
-                                 T omega, T current)
+inline void feedforwardSignals(const CascadeControllerCoefficients<T>& k, CascadeControllerState<T>& s,
+                               bool differentiate, T theta_ref, T omega_ref, T alpha_ref, T& w_ff, T& a_ff)
 {
-  using lanes::both;
-  using lanes::clampTo;
-  using lanes::magnitude;
-  using lanes::select;
-  // Feedforward signals: ω_ff = s/(1+τf s) θref, α_ff = s²/(1+τf s)² θref.
-  T w_ff, a_ff;
   if (differentiate)
   {
     // s/(1 + τf s) ramp-invariant (first-order-hold equivalent): exact slope for ramps, no ringing;
@@ -41,17 +33,14 @@ inline T cascadeControllerUpdate(const CascadeControllerCoefficients<T>& k, Casc
     w_ff = s.lp1;
     a_ff = s.lp3;
   }
-  // Position PD.
-  const T e_theta = theta_ref - theta;
-  s.d_state = k.pd_a * s.d_state + k.pd_b * (e_theta - s.e_theta_prev);
-  s.e_theta_prev = e_theta;
-  s.omega_ref = k.ktheta * (e_theta + s.d_state) + k.k1 * w_ff;
-  // Speed PI.
-  const T e_w = s.omega_ref - omega;
-  const T int_w_new = s.int_w + k.cw * (e_w + s.e_w_prev);
-  s.e_w_prev = e_w;
-  const T i_ff = k.k2_jeq * a_ff;
-  s.i_ref = k.kiw * (e_w + int_w_new) + i_ff;
+}
+
+/// \brief The voltage feedforward and the current PI from the current reference s.i_ref and the current
+/// feedforward \p i_ff already in it; returns the unsaturated voltage and the current PI's new integral.
+template <class T>
+inline T currentLoop(const CascadeControllerCoefficients<T>& k, CascadeControllerState<T>& s, bool voltage_ff, T w_ff,
+                     T i_ff, T current, T& int_i_new)
+{
   // Voltage feedforward U_ff = R i_ff + L di_ff/dt + Ke ω_ff.
   if (voltage_ff)
   {
@@ -64,11 +53,39 @@ inline T cascadeControllerUpdate(const CascadeControllerCoefficients<T>& k, Casc
   s.i_ff_prev = i_ff;
   // Current PI.
   const T e_i = s.i_ref - current;
-  const T int_i_new = s.int_i + k.ci * (e_i + s.e_i_prev);
+  int_i_new = s.int_i + k.ci * (e_i + s.e_i_prev);
   s.e_i_prev = e_i;
-  const T u = k.kii * (e_i + int_i_new) + s.u_ff;
-  // Anti-windup: conditional integration.
-  const auto saturated = both(magnitude(u) > k.supply_v, e_i * u > T{});
+  return k.kii * (e_i + int_i_new) + s.u_ff;
+}
+
+/// \brief One controller sample; returns the voltage saturated to ±supply [V].
+/// \param[in] differentiate, voltage_ff  the controller's modes (the same for every lane)
+template <class T>
+inline T cascadeControllerUpdate(const CascadeControllerCoefficients<T>& k, CascadeControllerState<T>& s,
+                                 bool differentiate, bool voltage_ff, T theta_ref, T omega_ref, T alpha_ref, T theta,
+                                 T omega, T current)
+{
+  using lanes::both;
+  using lanes::clampTo;
+  using lanes::magnitude;
+  using lanes::select;
+  T w_ff, a_ff;
+  feedforwardSignals(k, s, differentiate, theta_ref, omega_ref, alpha_ref, w_ff, a_ff);
+  // Position PD.
+  const T e_theta = theta_ref - theta;
+  s.d_state = k.pd_a * s.d_state + k.pd_b * (e_theta - s.e_theta_prev);
+  s.e_theta_prev = e_theta;
+  s.omega_ref = k.ktheta * (e_theta + s.d_state) + k.k1 * w_ff;
+  // Speed PI.
+  const T e_w = s.omega_ref - omega;
+  const T int_w_new = s.int_w + k.cw * (e_w + s.e_w_prev);
+  s.e_w_prev = e_w;
+  const T i_ff = k.k2_jeq * a_ff;
+  s.i_ref = k.kiw * (e_w + int_w_new) + i_ff;
+  T int_i_new;
+  const T u = currentLoop(k, s, voltage_ff, w_ff, i_ff, current, int_i_new);
+  // Anti-windup: conditional integration (s.e_i_prev is this sample's current error).
+  const auto saturated = both(magnitude(u) > k.supply_v, s.e_i_prev * u > T{});
   s.int_i = select(saturated, s.int_i, int_i_new);
   s.int_w = select(saturated, s.int_w, int_w_new);
   return clampTo(u, -k.supply_v, k.supply_v);

@@ -9,6 +9,7 @@
 #include "scanhead/common/errors.hpp"
 #include "scanhead/servo/cascade_axis.hpp"
 #include "scanhead/servo/foh_discretisation.hpp"
+#include "scanhead/servo/hinf/hinf_synthesis.hpp"
 
 namespace scanhead
 {
@@ -153,6 +154,13 @@ std::unique_ptr<AxisModel> makeAxisModel(const ServoConfig& config, int axis, do
   const char* name = axis == 0 ? "x" : "y";
   if (config.model == "cascade")
   {
+    if (config.position_controller == "hinf")
+    {
+      const HinfDesign design = designHinfController(loop.plant, loop.gains, config.hinf);
+      return std::make_unique<CascadeAxis>(loop, period_s, config.controller_rate_hz,
+                                           config.feedforward_derivatives == "differentiate",
+                                           config.voltage_feedforward, &design);
+    }
     return std::make_unique<CascadeAxis>(loop, period_s, config.controller_rate_hz,
                                          config.feedforward_derivatives == "differentiate", config.voltage_feedforward);
   }

@@ -38,5 +38,14 @@ void ServoConfig::validate() const
     throw ConfigError("servo.feedforward_derivatives: unknown '" + feedforward_derivatives +
                       "' (known: nc, differentiate)");
   }
+  if (position_controller != "pd" && position_controller != "hinf")
+  {
+    throw ConfigError("servo.position_controller: unknown '" + position_controller + "' (known: pd, hinf)");
+  }
+  if (position_controller == "hinf" && model != "cascade")
+  {
+    throw ConfigError("servo.position_controller: hinf needs servo.model: cascade (got '" + model + "')");
+  }
+  hinf.validate();
 }
 }  // namespace scanhead

@@ -7,13 +7,14 @@
 #include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/servo/hinf/hinf_loops.hpp"
 #include "scanhead/servo/identification/identification_report.hpp"
 #include "scanhead/servo/km0/km0_config.hpp"
 #include "scanhead/servo/km0/km0_report.hpp"
 #include "scanhead/servo/loop_analysis.hpp"
 #include "support/command_line.hpp"
-#include "support/tool_errors.hpp"
 #include "support/python_plots.hpp"
+#include "support/tool_errors.hpp"
 
 namespace
 {
@@ -24,6 +25,7 @@ struct Arguments
   scanhead::ConfigArguments config;
   std::string km0_config = "config/km0.yaml";
   std::string out;
+  std::string position_controller;  ///< loops: pd | hinf ("": servo.position_controller)
 };
 
 /// \brief The command and its options into \p a. \return false after --help
@@ -37,7 +39,15 @@ bool parse(int argc, char** argv, Arguments& a)
       ->required()
       ->transform(scanhead::check::oneOf({"x", "y"}));
   a.config.addTo(app, "servo.y.plant.coulomb_torque_nm=6e-5");
-  app.add_subcommand("loops", "crossovers, phase margins and closed-loop bandwidth of the axis's cascade (YAML)");
+  CLI::App* loops = app.add_subcommand(
+      "loops",
+      "crossovers, phase margins and closed-loop bandwidth of the axis's controller (YAML);\n"
+      "hinf: also gamma, gain margin, peaks of S, KS, SG, T; with --out DIR hinf_bode.csv and its plot");
+  loops->add_option("--position-controller", a.position_controller, "default: servo.position_controller")
+      ->type_name("pd|hinf")
+      ->transform(scanhead::check::oneOf({"pd", "hinf"}));
+  loops->add_option("--out", a.out, "hinf: folder for hinf_bode.csv and hinf_loops.png (Fig. 3.5 style)")
+      ->type_name("DIR");
   CLI::App* identify =
       app.add_subcommand("identify",
                          "PRBS identification of the simulated galvo: true vs identified R, L, Kc, B, Jeq (YAML);\n"
@@ -64,9 +74,14 @@ int main(int argc, char** argv)
     Arguments args;
     if (!parse(argc, argv, args))
       return 0;
-    const ChainConfig config = args.config.load();
+    ChainConfig config = args.config.load();
+    if (!args.position_controller.empty())
+      config.servo.position_controller = args.position_controller;
     const AxisLoopConfig& axis = args.axis == 0 ? config.servo.x : config.servo.y;
-    if (args.command == "loops")
+    if (args.command == "loops" && config.servo.position_controller == "hinf")
+      std::cout << hinfLoopsReportYaml(config.servo, args.axis, args.out,
+                                       pythonPlotHook("scripts/plot_hinf_loops.py", "H-infinity loop plots"));
+    else if (args.command == "loops")
       std::cout << loopsReportYaml(config.servo, args.axis);
     else if (args.command == "identify")
       std::cout << identificationReport(axis.plant, IdentificationConfig{}, args.out,

@@ -459,6 +459,11 @@ TEST(GalvoServo, ChunkInvarianceCascade)
   cfg = ServoConfig();
   cfg.feedforward_derivatives = "differentiate";
   checkChunkInvariance(cfg);
+  cfg = ServoConfig();
+  cfg.position_controller = "hinf";  // the H∞ controller's states across chunk boundaries
+  checkChunkInvariance(cfg);
+  cfg.controller_rate_hz = 2e4;
+  checkChunkInvariance(cfg);
 }
 
 // The cascade servo steps both axes in the lanes of one vector (CascadeAxis::stepPair): every
@@ -549,6 +554,9 @@ TEST(GalvoServo, CascadeLockstepBitIdenticalToPerAxis)
   checkLockstepMatchesPerAxis(cfg);
   cfg = ServoConfig();
   cfg.x.plant.coulomb_torque_nm = 0.0;  // x: no refinement ever; y: with friction
+  checkLockstepMatchesPerAxis(cfg);
+  cfg = ServoConfig();
+  cfg.position_controller = "hinf";  // per-axis path: the servo gives each axis's own steps
   checkLockstepMatchesPerAxis(cfg);
 }
 

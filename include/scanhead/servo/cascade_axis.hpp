@@ -29,8 +29,9 @@ public:
   /// \param[in] controller_rate_hz  1/Tc [Hz]
   /// \param[in] differentiate  feedforward from differentiated setpoint (else NC derivatives)
   /// \param[in] voltage_feedforward  add U_ff = R i_ff + L di_ff/dt + Ke ω_ff (cascade_controller.hpp)
+  /// \param[in] hinf  the H∞ position controller (servo.position_controller: hinf), or null for the PD + speed PI
   CascadeAxis(const AxisLoopConfig& config, double period_s, double controller_rate_hz, bool differentiate,
-              bool voltage_feedforward = true);
+              bool voltage_feedforward = true, const HinfDesign* hinf = nullptr);
   void reset(double position_rad) override;
   /// \brief Plant state at the instant of \p setpoint_rad; if reset() was never called, the
   /// first call resets the axis at rest at \p setpoint_rad.
@@ -48,7 +49,8 @@ public:
   /// operations in the same order, so outputs and states are bit-identical to calling x.step() and
   /// y.step() per sample. A plant step where the rigid speed is 0 or changes sign (friction
   /// refinement) is taken by that plant's scalar code. Falls back to step() per sample when the
-  /// axes are not in lockstep (controller faster than the samples, phases, periods or modes differ).
+  /// axes are not in lockstep (controller faster than the samples, phases, periods or modes differ) or run the
+  /// H∞ position controller.
   static void stepPair(CascadeAxis& x, CascadeAxis& y, const SetpointSample* setpoint, std::size_t n, JointSample* out);
 
 private:

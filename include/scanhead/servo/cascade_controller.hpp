@@ -4,6 +4,7 @@
 
 #include "scanhead/servo/cascade_gains.hpp"
 #include "scanhead/servo/galvo_plant.hpp"
+#include "scanhead/servo/hinf/hinf_position_controller.hpp"
 
 namespace scanhead
 {
@@ -37,6 +38,9 @@ namespace scanhead
 ///   path ≈ the filtered setpoint. Off: the pure THESIS structure.
 /// - anti-windup: when the voltage saturates (|U| > supply) and the current error drives it
 ///   further, the current and speed integrators keep their previous values (conditional integration).
+/// - servo.position_controller: hinf (THESIS Fig. 3.7): the position PD and the speed PI replaced by the H∞
+///   controller, \f$i_{ref} = K_\infty(\theta_{ref} - \theta) + i_{ff}\f$ (HinfPositionController, error in degrees);
+///   the feedforwards and the current PI as above, its integral held by the same anti-windup.
 /// \brief Constants of CascadeController::update, precomputed from the gains and the period
 /// (T = double; or a vector of doubles, one lane per axis, when two controllers run in lockstep).
 /// Products that update() forms left to right first (K2·Jeq/Kc, Ke·K1) and 1 − a are kept as
@@ -85,8 +89,9 @@ public:
   /// \param[in] differentiate  true: feedforward from the setpoint's filtered derivatives
   /// \param[in] plant  R, L, Ke (= Kc) of the voltage feedforward
   /// \param[in] voltage_feedforward  add \f$U_{ff}\f$ (false: the pure THESIS structure)
+  /// \param[in] hinf  the H∞ position controller's design (servo.position_controller: hinf), or null for the PD
   CascadeController(const CascadeGains& gains, double jeq_over_kc, double period_s, double supply_v, bool differentiate,
-                    const GalvoPlantParams& plant, bool voltage_feedforward);
+                    const GalvoPlantParams& plant, bool voltage_feedforward, const HinfDesign* hinf = nullptr);
   /// \brief At rest at \p angle_rad: integrators, filters and memories cleared (no derivative kick).
   void reset(double angle_rad);
   /// \brief One controller sample: returns the voltage command, saturated to ±supply [V].
@@ -96,12 +101,18 @@ public:
   double speedReference() const { return s_.omega_ref; }  ///< last ω_ref [rad/s]
   double currentReference() const { return s_.i_ref; }    ///< last i_ref [A]
   double voltageFeedforward() const { return s_.u_ff; }   ///< last U_ff [V] (0 when off)
+  bool hinf() const { return hinf_; }                     ///< the H∞ position controller runs
 
 private:
   friend class CascadeAxis;  ///< steps two controllers in lockstep (CascadeAxis::stepPair)
 
+  /// \brief update() with the H∞ position controller.
+  double updateHinf(double theta_ref, double omega_ref, double alpha_ref, double theta, double current);
+
   bool differentiate_;
   bool voltage_ff_;
+  bool hinf_ = false;
+  HinfPositionController hinf_controller_;
   CascadeControllerCoefficients<double> k_{};
   CascadeControllerState<double> s_{};
 };

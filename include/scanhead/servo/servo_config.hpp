@@ -7,6 +7,7 @@
 #include "scanhead/servo/cascade_gains.hpp"
 #include "scanhead/servo/galvo_params.hpp"
 #include "scanhead/servo/galvo_plant.hpp"
+#include "scanhead/servo/hinf/hinf_synthesis.hpp"
 
 namespace scanhead
 {
@@ -59,9 +60,14 @@ struct ServoConfig
   /// loop lags the current feedforward, θ/θref peaks +7 dB near 1 kHz and on the paper's corner
   /// (2 m/s, 53.13°) the actual corner error is 19.8 µm vs the setpoint's 62.7 µm, 108 µm off the setpoint.
   bool voltage_feedforward = true;
+  /// cascade: "pd" = the THESIS's conventional structure (position PD, speed PI; chapter 2) | "hinf" = its H∞
+  /// position controller (chapter 3: synthesised from the plant and servo.hinf at start-up, it replaces the PD and
+  /// the speed PI; current PI and feedforward kept). See hinf/hinf_synthesis.hpp.
+  std::string position_controller = "pd";
+  HinfConfig hinf;  ///< servo.hinf: weights and reduction of the H∞ synthesis
 
   /// \throws ConfigError naming the field and value (unknown model, axis fields, kc_over_jeq,
-  /// controller_rate_hz, feedforward_derivatives)
+  /// controller_rate_hz, feedforward_derivatives, position_controller, hinf)
   void validate() const;
 };
 }  // namespace scanhead
