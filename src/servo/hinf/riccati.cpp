@@ -1,8 +1,14 @@
 /// \file riccati.cpp
-#include "scanhead/servo/hinf/riccati.hpp"
-
+// GCC 12 reports a false -Wmaybe-uninitialized inside Eigen 3.4's triangular and self-adjoint products; the
+// pragma covers Eigen's headers only, so they come first (as in src/optics/calibration.cpp).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
+#pragma GCC diagnostic pop
+
+#include "scanhead/servo/hinf/riccati.hpp"
+
 #include <cmath>
 #include <complex>
 

@@ -1,8 +1,14 @@
 /// \file state_space.cpp
-#include "scanhead/servo/hinf/state_space.hpp"
-
+// GCC 12 reports a false -Wmaybe-uninitialized inside Eigen 3.4's triangular and self-adjoint products; the
+// pragma covers Eigen's headers only, so they come first (as in src/optics/calibration.cpp).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
+#pragma GCC diagnostic pop
+
+#include "scanhead/servo/hinf/state_space.hpp"
+
 #include <cmath>
 
 #include "scanhead/common/errors.hpp"
