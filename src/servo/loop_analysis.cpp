@@ -149,6 +149,21 @@ CascadeLoops::Complex CascadeLoops::closedLoop(double w, bool feedforward) const
     const Complex lt = reg * tw / s;
     return lt / (1.0 + lt);
   }
+  const Feedforward ff = this->feedforward(w);
+  const Complex h_w_ei = ti * speedPerCurrent(w) / (1.0 + lw);
+  Complex num = (reg + ff.speed) * tw + ff.current * h_w_ei;
+  if (voltage_ff_)
+  {
+    // FF_U enters like the current PI's output (delay Tc/2).
+    const Complex s_u = std::exp(-s * (0.5 * tc_)) * currentPerVoltage(w) / (1.0 + li);
+    num += ff.voltage * s_u * speedPerCurrent(w) / (1.0 + lw);
+  }
+  return num / (s + reg * tw);
+}
+
+CascadeLoops::Feedforward CascadeLoops::feedforward(double w) const
+{
+  const Complex s(0.0, w);
   // 1/(1 + τf s) as the controller realises it: step-invariant pole a = e^{−Tc/τf} on the current
   // input, (1 − a)/(1 − a e^{−sTc}) (the continuous form when Tc = 0).
   Complex f = 1.0 / (1.0 + g_.tauf_s * s);
@@ -157,20 +172,18 @@ CascadeLoops::Complex CascadeLoops::closedLoop(double w, bool feedforward) const
     const double a = g_.tauf_s > 0.0 ? std::exp(-tc_ / g_.tauf_s) : 0.0;
     f = (1.0 - a) / (1.0 - a * std::exp(-s * tc_));
   }
-  const Complex ff_w = g_.k1 * s * f;
-  const Complex ff_i = g_.k2 * (p_.inertia_kgm2 / p_.torque_constant_nm_per_a) * s * s * f * f;
-  const Complex h_w_ei = ti * speedPerCurrent(w) / (1.0 + lw);
-  Complex num = (reg + ff_w) * tw + ff_i * h_w_ei;
+  Feedforward ff;
+  ff.speed = g_.k1 * s * f;
+  ff.current = g_.k2 * (p_.inertia_kgm2 / p_.torque_constant_nm_per_a) * s * s * f * f;
+  ff.voltage = 0.0;
   if (voltage_ff_)
   {
     // FF_U = R FF_i + L d(FF_i)/dt + Ke FF_ω, the derivative as the controller takes it: the backward
-    // difference (1 − e^{−sTc})/Tc (s when Tc = 0); enters like the current PI's output (delay Tc/2).
-    const Complex d_ff_i = tc_ > 0.0 ? ff_i * (1.0 - std::exp(-s * tc_)) / tc_ : ff_i * s;
-    const Complex ff_u = p_.resistance_ohm * ff_i + p_.inductance_h * d_ff_i + p_.torque_constant_nm_per_a * ff_w;
-    const Complex s_u = std::exp(-s * (0.5 * tc_)) * currentPerVoltage(w) / (1.0 + li);
-    num += ff_u * s_u * speedPerCurrent(w) / (1.0 + lw);
+    // difference (1 − e^{−sTc})/Tc (s when Tc = 0).
+    const Complex d_ff_i = tc_ > 0.0 ? ff.current * (1.0 - std::exp(-s * tc_)) / tc_ : ff.current * s;
+    ff.voltage = p_.resistance_ohm * ff.current + p_.inductance_h * d_ff_i + p_.torque_constant_nm_per_a * ff.speed;
   }
-  return num / (s + reg * tw);
+  return ff;
 }
 
 LoopMargin loopMargin(const std::function<Complex(double)>& open_loop)

@@ -45,6 +45,13 @@ public:
   Complex positionOpenLoop(double w) const;   ///< L_θ(jw)
   /// \brief θ/θref(jw), with or without the feedforward paths (K1, K2 as configured)
   Complex closedLoop(double w, bool feedforward) const;
+  /// \brief The feedforward paths per θref at jw, as the controller realises them: FF_ω (K1), FF_i (K2) and the
+  /// voltage FF_U (0 without the voltage feedforward).
+  struct Feedforward
+  {
+    Complex speed, current, voltage;
+  };
+  Feedforward feedforward(double w) const;
 
 private:
   GalvoPlantParams p_;

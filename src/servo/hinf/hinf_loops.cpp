@@ -16,13 +16,10 @@ namespace scanhead
 HinfLoops::HinfLoops(const GalvoPlantParams& plant, const CascadeGains& gains, const HinfDesign& design,
                      double controller_period_s, bool voltage_feedforward)
   : cascade_(plant, gains, controller_period_s, voltage_feedforward)
-  , p_(plant)
-  , g_(gains)
   , k_(design.reduced())
   , k_discrete_(controller_period_s > 0.0 ? triangleHold(design.stable_part, controller_period_s) : StateSpace{})
   , integral_gain_(design.integral_gain)
   , tc_(controller_period_s)
-  , voltage_ff_(voltage_feedforward)
 {
 }
 
@@ -50,22 +47,8 @@ HinfLoops::Complex HinfLoops::closedLoop(double w, bool feedforward) const
   Complex num = ti * k;
   if (feedforward)
   {
-    // The feedforward filters and derivative as CascadeLoops::closedLoop takes them.
-    Complex f = 1.0 / (1.0 + g_.tauf_s * s);
-    if (tc_ > 0.0)
-    {
-      const double a = g_.tauf_s > 0.0 ? std::exp(-tc_ / g_.tauf_s) : 0.0;
-      f = (1.0 - a) / (1.0 - a * std::exp(-s * tc_));
-    }
-    const Complex ff_w = g_.k1 * s * f;
-    const Complex ff_i = g_.k2 * (p_.inertia_kgm2 / p_.torque_constant_nm_per_a) * s * s * f * f;
-    num += ti * ff_i;
-    if (voltage_ff_)
-    {
-      const Complex d_ff_i = tc_ > 0.0 ? ff_i * (1.0 - std::exp(-s * tc_)) / tc_ : ff_i * s;
-      const Complex ff_u = p_.resistance_ohm * ff_i + p_.inductance_h * d_ff_i + p_.torque_constant_nm_per_a * ff_w;
-      num += ff_u * std::exp(-s * (0.5 * tc_)) * cascade_.currentPerVoltage(w) / (1.0 + li);
-    }
+    const CascadeLoops::Feedforward ff = cascade_.feedforward(w);
+    num += ti * ff.current + ff.voltage * std::exp(-s * (0.5 * tc_)) * cascade_.currentPerVoltage(w) / (1.0 + li);
   }
   return h * num / (1.0 + ti * k * h);
 }

@@ -35,14 +35,11 @@ public:
   Complex closedLoop(double w, bool feedforward) const;                  ///< θ/θref
 
 private:
-  CascadeLoops cascade_;
-  GalvoPlantParams p_;
-  CascadeGains g_;
+  CascadeLoops cascade_;   ///< plant, current loop and feedforward paths
   StateSpace k_;           ///< K_r (continuous), used when tc_ = 0
   StateSpace k_discrete_;  ///< K_s discretised (triangle hold)
   double integral_gain_;
   double tc_;
-  bool voltage_ff_;
 };
 
 /// \brief What `scanhead_galvo loops --position-controller hinf` prints for one axis.
