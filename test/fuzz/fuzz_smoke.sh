@@ -42,7 +42,7 @@ sources_for() {
         "$s/job/cam_config.cpp" "$s/job/recipe.cpp" "$s/job/job_stats.cpp" "$s/job/path_timeline.cpp" \
         "$s/job/generators/thesis_square_job.cpp" "$s/nc/nc_config.cpp" "$s/optics/optics_config.cpp" \
         "$s/servo/servo_config.cpp" "$s/servo/cascade_gains.cpp" "$s/servo/galvo_plant.cpp" \
-        "$s/servo/foh_discretisation.cpp" "$s/thermal/thermal_config.cpp" ;;
+        "$s/servo/foh_discretisation.cpp" "$s/servo/hinf/hinf_config.cpp" "$s/thermal/thermal_config.cpp" ;;
     defect_set) echo "$s/optics/defect_set_io.cpp" "$s/optics/defect_catalog.cpp" "$s/common/yaml_document.cpp" \
       "$s/common/number_text.cpp" ;;
     correction_table) echo "$s/optics/correction_table.cpp" "$s/common/number_text.cpp" ;;
@@ -53,7 +53,7 @@ sources_for() {
 }
 
 # Libraries (yaml-cpp, uninstrumented: the targets fuzz our walk over its tree) and input sizes: a
-# config seed is the shipped 14 KB config/scanhead.yaml.
+# config seed is the shipped 16 KB config/scanhead.yaml.
 libs_for() {
   case "$1" in
     yaml_job | config | defect_set) echo "-lyaml-cpp" ;;
@@ -61,7 +61,7 @@ libs_for() {
 }
 max_len_for() {
   case "$1" in
-    config) echo 16384 ;;
+    config) echo 20480 ;;
     *) echo 4096 ;;
   esac
 }

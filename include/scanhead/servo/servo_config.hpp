@@ -7,7 +7,7 @@
 #include "scanhead/servo/cascade_gains.hpp"
 #include "scanhead/servo/galvo_params.hpp"
 #include "scanhead/servo/galvo_plant.hpp"
-#include "scanhead/servo/hinf/hinf_synthesis.hpp"
+#include "scanhead/servo/hinf/hinf_config.hpp"
 
 namespace scanhead
 {
