@@ -194,11 +194,16 @@ LoopMargin loopMargin(const std::function<Complex(double)>& open_loop)
   return m;
 }
 
+double closedLoopBandwidth(const std::function<Complex(double)>& closed_loop)
+{
+  const double w = firstCrossing([&](double x) { return std::abs(closed_loop(x)) < std::sqrt(0.5); }, 1.0, 1e7,
+                                 "closedLoopBandwidth");
+  return w / (2.0 * kPi);
+}
+
 double closedLoopBandwidth(const CascadeLoops& loops, bool feedforward)
 {
-  const double w = firstCrossing([&](double x) { return std::abs(loops.closedLoop(x, feedforward)) < std::sqrt(0.5); },
-                                 1.0, 1e7, "closedLoopBandwidth");
-  return w / (2.0 * kPi);
+  return closedLoopBandwidth([&](double w) { return loops.closedLoop(w, feedforward); });
 }
 
 double lowFrequencyDelay(const GalvoPlantParams& plant, const CascadeGains& gains, double controller_period_s,

@@ -34,15 +34,6 @@ namespace
 {
 using Complex = std::complex<double>;
 
-/// \brief The standard form of the Y axis with the exogenous inputs as centralController wants them (d, r).
-StateSpace standardFormY(const HinfConfig& config = HinfConfig{})
-{
-  StateSpace p = balanceStates(standardForm(synthesisModel(defaultPlantY(), defaultGainsY()), config));
-  p.b.leftCols(2).rowwise().reverseInPlace();
-  p.d.leftCols(2).rowwise().reverseInPlace();
-  return p;
-}
-
 /// \brief The closed loop F_l(P, K) of a standard form with one control (last input) and one measurement (last output).
 StateSpace lowerLft(const StateSpace& p, const StateSpace& k)
 {
@@ -180,7 +171,8 @@ TEST(HinfSynthesis, GammaAndControllerMatchOctaveRecorded)
   EXPECT_GE(design.gamma, kOctaveGammaInfimum * (1.0 - 1e-7));
   EXPECT_LT(design.gamma - design.gamma_lower, 1e-4 * design.gamma);
   StateSpace k;
-  ASSERT_TRUE(centralController(standardFormY(), 1, 1, kOctaveGammaFixed, k));
+  ASSERT_TRUE(
+      centralController(synthesisProblem(defaultPlantY(), defaultGainsY(), HinfConfig{}), 1, 1, kOctaveGammaFixed, k));
   for (const OctaveK& o : kOctaveK)
   {
     const Complex want(o.re, o.im), got = k.siso(Complex(0.0, o.w));
@@ -243,9 +235,7 @@ TEST(HinfSynthesis, GammaAndControllerMatchOctaveLive)
   ASSERT_EQ(ks.size(), std::size(freqs)) << text;
   EXPECT_LE(design.gamma_lower, gamma_infimum * (1.0 + 1e-6));
   EXPECT_GE(design.gamma, gamma_infimum * (1.0 - 1e-6));
-  StateSpace p_std = balanceStates(standardForm(synthesisModel(p, g), config));
-  p_std.b.leftCols(2).rowwise().reverseInPlace();
-  p_std.d.leftCols(2).rowwise().reverseInPlace();
+  const StateSpace p_std = synthesisProblem(p, g, config);
   StateSpace k;
   ASSERT_TRUE(centralController(p_std, 1, 1, gamma_fixed, k));
   for (const OctaveK& o : ks)
@@ -260,7 +250,7 @@ TEST(HinfSynthesis, GammaAndControllerMatchOctaveLive)
 TEST(HinfSynthesis, ClosedLoopNormIsBelowGammaAndStable)
 {
   const HinfDesign design = designHinfController(defaultPlantY(), defaultGainsY(), HinfConfig{});
-  const StateSpace cl = lowerLft(standardFormY(), design.full);
+  const StateSpace cl = lowerLft(synthesisProblem(defaultPlantY(), defaultGainsY(), HinfConfig{}), design.full);
   EXPECT_LT(maxRealPole(cl.a), 0.0);
   const double norm = hinfNormByGrid(cl);
   EXPECT_LT(norm, design.gamma);

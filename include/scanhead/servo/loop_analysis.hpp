@@ -85,8 +85,10 @@ struct LoopReport
 /// \throws NumericalError if there is no crossing
 LoopMargin loopMargin(const std::function<std::complex<double>(double)>& open_loop);
 
-/// \brief Lowest frequency [Hz] where |θ/θref| falls below 1/√2 (grid + bisection).
+/// \brief Lowest frequency [Hz] where |θ/θref| falls below 1/√2 (grid + bisection, 1 rad/s..1e7 rad/s).
 /// \throws NumericalError if none below 1e7 rad/s
+double closedLoopBandwidth(const std::function<std::complex<double>(double)>& closed_loop);
+/// \brief closedLoopBandwidth() of the cascade's θ/θref, with or without the feedforward.
 double closedLoopBandwidth(const CascadeLoops& loops, bool feedforward);
 
 /// \brief −d arg(θ/θref)/dω at 0 with the feedforward, = −Im H(jω)/ω at ω = 1e-3 rad/s

@@ -53,6 +53,12 @@ HinfLoops::Complex HinfLoops::closedLoop(double w, bool feedforward) const
   return h * num / (1.0 + ti * k * h);
 }
 
+double HinfLoops::lowFrequencyDelay() const
+{
+  const double w0 = 1e-3;
+  return -std::imag(closedLoop(w0, true)) / w0;
+}
+
 HinfLoopReport analyseHinfLoops(const GalvoPlantParams& plant, const CascadeGains& gains, const HinfDesign& design,
                                 double controller_period_s, bool voltage_feedforward)
 {
@@ -111,35 +117,16 @@ HinfLoopReport analyseHinfLoops(const GalvoPlantParams& plant, const CascadeGain
       r.gain_margin_db = -db(std::abs(loops.openLoop(r.gain_margin_rad_s)));
       break;
     }
-  const auto bandwidth = [&](bool feedforward) {
-    double prev = w_lo;
-    for (int i = 1; i <= n; ++i)
-      if (std::abs(loops.closedLoop(w[i], feedforward)) < std::sqrt(0.5))
-      {
-        double lo = prev, hi = w[i];
-        for (int it = 0; it < 60; ++it)
-        {
-          const double mid = std::sqrt(lo * hi);
-          (std::abs(loops.closedLoop(mid, feedforward)) < std::sqrt(0.5) ? hi : lo) = mid;
-        }
-        return std::sqrt(lo * hi) / (2.0 * M_PI);
-      }
-      else
-        prev = w[i];
-    return w_hi / (2.0 * M_PI);  // |T| ≥ −3 dB up to the grid's end
-  };
-  r.bandwidth_hz = bandwidth(false);
-  r.bandwidth_with_feedforward_hz = bandwidth(true);
-  r.low_frequency_delay_s = hinfLowFrequencyDelay(plant, gains, design, controller_period_s, voltage_feedforward);
+  r.bandwidth_hz = closedLoopBandwidth([&](double x) { return loops.closedLoop(x, false); });
+  r.bandwidth_with_feedforward_hz = closedLoopBandwidth([&](double x) { return loops.closedLoop(x, true); });
+  r.low_frequency_delay_s = loops.lowFrequencyDelay();
   return r;
 }
 
 double hinfLowFrequencyDelay(const GalvoPlantParams& plant, const CascadeGains& gains, const HinfDesign& design,
                              double controller_period_s, bool voltage_feedforward)
 {
-  const double w0 = 1e-3;
-  return -std::imag(HinfLoops(plant, gains, design, controller_period_s, voltage_feedforward).closedLoop(w0, true)) /
-         w0;
+  return HinfLoops(plant, gains, design, controller_period_s, voltage_feedforward).lowFrequencyDelay();
 }
 
 namespace

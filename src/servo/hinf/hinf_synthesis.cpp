@@ -198,6 +198,14 @@ bool centralController(const StateSpace& p_in, int ny, int nu, double gamma, Sta
   return true;
 }
 
+StateSpace synthesisProblem(const GalvoPlantParams& plant, const CascadeGains& gains, const HinfConfig& config)
+{
+  StateSpace p = balanceStates(standardForm(synthesisModel(plant, gains), config));
+  p.b.leftCols(2).rowwise().reverseInPlace();
+  p.d.leftCols(2).rowwise().reverseInPlace();
+  return p;
+}
+
 StateSpace HinfDesign::reduced() const
 {
   const int n = stable_part.order() + 1;
@@ -251,10 +259,7 @@ void moveSmallestPoleToOrigin(const StateSpace& k, HinfDesign& design)
 
 HinfDesign designHinfController(const GalvoPlantParams& plant, const CascadeGains& gains, const HinfConfig& config)
 {
-  // Exogenous inputs reordered (d, r): the one without a path to the measurement first (D21 = [0 1]).
-  StateSpace p = balanceStates(standardForm(synthesisModel(plant, gains), config));
-  p.b.leftCols(2).rowwise().reverseInPlace();
-  p.d.leftCols(2).rowwise().reverseInPlace();
+  const StateSpace p = synthesisProblem(plant, gains, config);
   HinfDesign design;
   StateSpace k;
   // Bracket: γ_low below every achievable level (the D11 bound), γ_high doubled until achievable.

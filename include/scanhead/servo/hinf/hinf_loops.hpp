@@ -33,6 +33,8 @@ public:
   Complex controller(double w) const;                                    ///< K_r as implemented [A/°]
   Complex openLoop(double w) const { return controller(w) * plant(w); }  ///< L = KG
   Complex closedLoop(double w, bool feedforward) const;                  ///< θ/θref
+  /// \brief −d arg(θ/θref)/dω at 0 with the feedforward, = −Im(θ/θref)/ω at ω = 1e-3 rad/s [s]
+  double lowFrequencyDelay() const;
 
 private:
   CascadeLoops cascade_;   ///< plant, current loop and feedforward paths
@@ -59,8 +61,9 @@ struct HinfLoopReport
   int full_order = 0, reduced_order = 0;
 };
 
-/// \brief The figures above on a log grid (400 points a decade, 0.1 rad/s up to the Nyquist pulsation π/Tc or 1e7).
-/// \throws NumericalError if the loop has no gain crossover
+/// \brief The figures above: margins and peaks on a log grid (400 points a decade, 0.1 rad/s up to the Nyquist
+/// pulsation π/Tc or 1e7), bandwidths by closedLoopBandwidth() (loop_analysis.hpp).
+/// \throws NumericalError if the loop has no gain crossover or |T| stays above −3 dB up to 1e7 rad/s
 HinfLoopReport analyseHinfLoops(const GalvoPlantParams& plant, const CascadeGains& gains, const HinfDesign& design,
                                 double controller_period_s, bool voltage_feedforward = true);
 

@@ -23,6 +23,11 @@ StateSpace synthesisModel(const GalvoPlantParams& plant, const CascadeGains& gai
 /// e1 = W1(r − y), e2 = W2 u, ε = r − y, y = G(u + W3 d); states (G, W1, W2, W3).
 StateSpace standardForm(const StateSpace& g, const HinfConfig& config);
 
+/// \brief The problem centralController() solves for one axis: standardForm() of its synthesisModel(), states
+/// balanced (balanceStates) and the exogenous inputs reordered (d, r, u), the one without a path to the measurement
+/// first, so that D21 = [0 1].
+StateSpace synthesisProblem(const GalvoPlantParams& plant, const CascadeGains& gains, const HinfConfig& config);
+
 /// \brief The central controller of the standard H∞ problem at level γ, or false if γ is not achievable.
 ///
 /// Glover–Doyle formulas for the general case (Zhou, Doyle & Glover 1996, Theorem 17.1; Glover & Doyle 1988):
