@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -27,6 +28,10 @@ void visitSettings(Config& c, F&& f)
   f("cam.jump_speed_mps", c.cam.jump_speed_mps);
   f("cam.mark_power_w", c.cam.mark_power_w);
   f("cam.shape_file", c.cam.shape_file);
+  f("cam.segment_power", c.cam.segment_power);
+  f("cam.offset_m", c.cam.offset_m);
+  f("cam.rotation_deg", c.cam.rotation_deg);
+  f("cam.centre", c.cam.centre);
   f("stream.chunk_samples", c.stream.chunk_samples);
   f("stream.window_chunks", c.stream.window_chunks);
   f("stream.threads", c.stream.threads);
@@ -244,6 +249,23 @@ void parseValue(const std::string&, const ConfigValue& v, std::string& out)
   out = v.text;
 }
 
+/// "[x, y]" (a YAML list, or the same text after --set), also "x, y" or "x y".
+void parseValue(const std::string& key, const ConfigValue& v, std::array<double, 2>& out)
+{
+  std::string text = v.text;
+  for (char& c : text)
+    if (c == '[' || c == ']' || c == ',')
+      c = ' ';
+  std::istringstream words(text);
+  std::vector<std::string> parts;
+  for (std::string word; words >> word;)
+    parts.push_back(word);
+  if (parts.size() != 2)
+    throw ConfigError(origin(key, v) + ": '" + v.text + "' is not a pair [x, y]");
+  for (std::size_t i = 0; i < 2; ++i)
+    parseValue(key + "[" + std::to_string(i) + "]", ConfigValue{parts[i], v.where}, out[i]);
+}
+
 std::string formatValue(double v)
 {
   return fullPrecisionText(v);
@@ -259,6 +281,10 @@ std::string formatValue(int v)
 std::string formatValue(bool v)
 {
   return v ? "true" : "false";
+}
+std::string formatValue(const std::array<double, 2>& v)
+{
+  return "[" + fullPrecisionText(v[0]) + ", " + fullPrecisionText(v[1]) + "]";
 }
 std::string formatValue(const std::string& v)
 {
@@ -278,6 +304,17 @@ void flattenNode(const YAML::Node& node, const std::string& prefix, const std::s
   }
   if (node.IsNull())
     return;
+  if (node.IsSequence() && std::all_of(node.begin(), node.end(), [](const YAML::Node& n) { return n.IsScalar(); }))
+  {
+    // A list of numbers (cam.offset_m: [x, y]): kept as its text, parsed by the setting's type.
+    std::string text = "[";
+    for (std::size_t i = 0; i < node.size(); ++i)
+      text += (i ? ", " : "") + node[i].Scalar();
+    const auto [it, fresh] = out.emplace(prefix, ConfigValue{text + "]", where});
+    if (!fresh)
+      throw InputError(where + ": " + prefix + " is given twice (first at " + it->second.where + ")");
+    return;
+  }
   if (!node.IsMap())
     throw InputError(where + ": " + (prefix.empty() ? std::string("the file") : prefix) +
                      " must be a map of settings, not a list");

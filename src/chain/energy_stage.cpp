@@ -63,6 +63,7 @@ void jobMapBounds(const Job& job, double margin_m, Eigen::Vector2d& min_corner, 
 EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcPlan& plan)
   : config_(config)
   , job_name_(job.name)
+  , job_placement_(job.placement.identity() && !job.placement.centred ? std::string() : job.placement.yaml())
   , actual_delay_s_(actualDelay(plan))
   , accumulator_(makeAccumulator(config, job))
   , corners_(makeCornerTracker(config, plan, actual_delay_s_))
@@ -246,6 +247,7 @@ RunMetrics EnergyStage::finish()
   accumulator_.finish();
   RunMetrics m;
   m.job_name = job_name_;
+  m.job_placement = job_placement_;
   m.samples = counter_.samples();
   m.dropped_samples = counter_.dropped();
   m.duration_s = static_cast<double>(counter_.samples()) * config_.nc.period_s;

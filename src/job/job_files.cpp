@@ -36,8 +36,13 @@ std::string jobFormatsHelp()
   return help;
 }
 
-Job loadJob(const std::string& argument, const CamConfig& cam)
+namespace
 {
+/// \brief The job as the file gives it, layer \p layer for layered files (CLI, segment); \p layered: the file has
+/// layers (so that cam.centre must look at all of them).
+Job readJob(const std::string& argument, const CamConfig& cam, int layer, bool& layered)
+{
+  layered = false;
   if (isBuiltinJobName(argument.substr(0, argument.find(':'))))
     return builtinJob(argument, cam.shape_file);
   if (endsWith(argument, ".yaml") || endsWith(argument, ".yml"))
@@ -51,8 +56,9 @@ Job loadJob(const std::string& argument, const CamConfig& cam)
   const std::string head = firstBytes(argument, 4096);
   if (endsWith(argument, ".cli") || looksLikeCli(head))
   {
+    layered = true;
     CliReadOptions options;
-    options.layer = cam.layer;
+    options.layer = layer;
     options.mark_speed_mps = cam.mark_speed_mps;
     options.jump_speed_mps = cam.jump_speed_mps;
     options.mark_power_w = cam.mark_power_w;
@@ -60,11 +66,30 @@ Job loadJob(const std::string& argument, const CamConfig& cam)
   }
   if (looksLikeSegmentPath(head))
   {
+    layered = true;
     SegmentReadOptions options;
     options.unit_m = cam.units == "mm" ? 1e-3 : 1.0;
     options.power_w = cam.mark_power_w;
+    options.layer = layer;
+    options.power_column = cam.segment_power == "watts"         ? SegmentPower::Watts
+                           : cam.segment_power == "coefficient" ? SegmentPower::Coefficient
+                                                                : SegmentPower::Auto;
     return readSegmentFile(argument, options);
   }
   return loadScanJobFile(argument);  // YAML without the extension; its errors say what is wrong
+}
+}  // namespace
+
+Job loadJob(const std::string& argument, const CamConfig& cam)
+{
+  bool layered = false;
+  Job job = readJob(argument, cam, cam.layer, layered);
+  if (cam.centre || cam.rotation_deg != 0.0 || cam.offset_m[0] != 0.0 || cam.offset_m[1] != 0.0)
+  {
+    // cam.centre centres the whole file, so that the layers of a build keep their relative position.
+    const Job whole = cam.centre && layered && cam.layer >= 0 ? readJob(argument, cam, -1, layered) : Job();
+    placeJob(job, placementFor(cam, whole.polylines.empty() ? job : whole));
+  }
+  return job;
 }
 }  // namespace scanhead

@@ -161,6 +161,8 @@ std::string metricsToYaml(const RunMetrics& m)
 {
   std::ostringstream out;
   out << "job: \"" << m.job_name << "\"\n";
+  if (!m.job_placement.empty())  // only a placed job has it: other runs read as before
+    out << "placement: " << m.job_placement << "  # field = R(rotation)·file + offset\n";
   if (!m.warnings.empty())
   {
     out << "warnings:  # questionable but possible settings (run plan)\n";

@@ -35,7 +35,8 @@ sources_for() {
   case "$1" in
     cli) echo "$s"/job/formats/cli_*.cpp "$s/common/config_check.cpp" "$s/common/number_text.cpp" ;;
     segment) echo "$s/job/formats/segment_path.cpp" "$s/common/config_check.cpp" "$s/common/number_text.cpp" ;;
-    yaml_job) echo "$s/job/formats/job_io.cpp" "$s/common/yaml_document.cpp" "$s/common/number_text.cpp" ;;
+    yaml_job) echo "$s/job/formats/job_io.cpp" "$s/job/job_placement.cpp" "$s/common/yaml_document.cpp" \
+      "$s/common/number_text.cpp" ;;
     config)  # config_io and every validate() it calls
       echo "$s/chain/config_io.cpp" "$s/common/config_check.cpp" "$s/common/number_text.cpp" \
         "$s/common/yaml_document.cpp" "$s/energy/energy_config.cpp" "$s/energy/map_regions.cpp" \

@@ -59,6 +59,7 @@ private:
 
   ChainConfig config_;
   std::string job_name_;
+  std::string job_placement_;  ///< RunMetrics::job_placement
   double actual_delay_s_;  ///< the actual path behind the ideal timeline: filter + servo delay [s]
   EnergyAccumulator accumulator_;
   CornerTracker corners_;

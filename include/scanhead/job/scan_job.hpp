@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "scanhead/job/job_placement.hpp"
+
 namespace scanhead
 {
 enum class PolylineType
@@ -38,6 +40,7 @@ struct Job
   std::string name;    ///< short identifier, used in reports
   std::string source;  ///< where it came from (file path or built-in description)
   std::vector<Polyline> polylines;
+  JobPlacement placement;  ///< how the file's points were moved onto the field (identity: as read)
 };
 
 /// \brief A direction change inside a MARK polyline (vertex i of polyline p).

@@ -43,6 +43,7 @@ struct StreamGap
 struct RunMetrics
 {
   std::string job_name;
+  std::string job_placement;  ///< JobPlacement::yaml() of a placed job (cam.offset_m, rotation_deg, centre); "": none
   std::uint64_t samples = 0;
   std::uint64_t dropped_samples = 0;  ///< samples missing from the stream (gaps between chunks, the lost tail)
   bool complete = true;               ///< false: the stream stopped before the job's end (stream_gap)

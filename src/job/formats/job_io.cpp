@@ -11,6 +11,7 @@
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
 #include "scanhead/common/yaml_document.hpp"
+#include "scanhead/job/job_placement.hpp"
 
 namespace scanhead
 {
@@ -123,10 +124,27 @@ Job parseScanJobYaml(const std::string& yaml_text, const std::string& source)
     throw InputError(source + ":1: expected a map with name and polylines");
   try
   {
-    checkKeys(root, {"name", "polylines"}, source, "");
+    checkKeys(root, {"name", "placement", "polylines"}, source, "");
     Job job;
     job.source = source;
     job.name = root["name"] ? root["name"].as<std::string>() : "job";
+    if (const YAML::Node placed = root["placement"])  // written by a placed run: the points are already placed
+    {
+      if (!placed.IsMap())
+        throw InputError(at(source, placed) + ": placement: expected {rotation_deg, offset_m: [x, y], centred}");
+      checkKeys(placed, {"rotation_deg", "offset_m", "centred"}, source, "placement: ");
+      if (placed["rotation_deg"])
+        job.placement.rotation_deg = number(placed["rotation_deg"], source, "placement.rotation_deg");
+      if (const YAML::Node o = placed["offset_m"])
+      {
+        if (!o.IsSequence() || o.size() != 2)
+          throw InputError(at(source, o) + ": placement.offset_m: expected [x, y] in m");
+        job.placement.offset_m =
+            Eigen::Vector2d(number(o[0], source, "placement.offset_m.x"), number(o[1], source, "placement.offset_m.y"));
+      }
+      if (placed["centred"])
+        job.placement.centred = placed["centred"].as<bool>();
+    }
     const YAML::Node lines = root["polylines"];
     if (!lines || !lines.IsSequence() || lines.size() == 0)
       throw InputError(at(source, root) + ": polylines: expected a non-empty list");
@@ -148,6 +166,34 @@ Job parseScanJobYaml(const std::string& yaml_text, const std::string& source)
     throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
 }
+
+namespace
+{
+/// \brief What would bring an out-of-field job onto the field: its extent and the placement that centres it.
+std::string placementHint(const Job& job, double field_half_width_m)
+{
+  Eigen::Vector2d lo, hi;
+  if (!rotatedBoundingBox(job, 0.0, lo, hi))
+    return "";
+  auto mm = [](double m) { return sixDigitText(m * 1e3); };
+  const Eigen::Vector2d size = hi - lo, centre = 0.5 * (lo + hi);
+  std::string hint =
+      ". The job spans x " + mm(lo.x()) + " to " + mm(hi.x()) + " mm, y " + mm(lo.y()) + " to " + mm(hi.y()) + " mm";
+  if (size.maxCoeff() > 2.0 * field_half_width_m)
+  {
+    hint +=
+        ": larger than the field; a file in mm read as m? (--set cam.units=mm for segment files; CLI files carry "
+        "their own $$UNITS)";
+    if (size.maxCoeff() * 1e-3 <= 2.0 * field_half_width_m)
+      return hint;
+    return hint + ", or a smaller job";
+  }
+  return hint +
+         ". Build files are in the plate's frame: place the job on the field with --set cam.centre=true (its "
+         "centre onto the field centre), or --set cam.offset_m=[" +
+         sixDigitText(-centre.x()) + "," + sixDigitText(-centre.y()) + "] (and cam.rotation_deg)";
+}
+}  // namespace
 
 Job loadScanJobFile(const std::string& path)
 {
@@ -183,7 +229,7 @@ void validateScanJob(const Job& job, double field_half_width_m)
       if (std::fabs(p.x()) > field_half_width_m || std::fabs(p.y()) > field_half_width_m)
         throw InputError(pf + " = (" + fullPrecisionText(p.x()) + ", " + fullPrecisionText(p.y()) +
                          ") m lies outside the field (|x|, |y| <= " + fullPrecisionText(field_half_width_m) +
-                         " m, optics.field_half_width_m)");
+                         " m, optics.field_half_width_m)" + placementHint(job, field_half_width_m));
     }
   }
 }
@@ -191,7 +237,10 @@ void validateScanJob(const Job& job, double field_half_width_m)
 std::string scanJobToYaml(const Job& job)
 {
   std::ostringstream out;
-  out << "name: " << yamlDoubleQuoted(job.name) << "\npolylines:\n";
+  out << "name: " << yamlDoubleQuoted(job.name) << "\n";
+  if (!job.placement.identity() || job.placement.centred)
+    out << "placement: " << job.placement.yaml() << "  # applied: field = R(rotation)·file + offset\n";
+  out << "polylines:\n";
   for (const Polyline& line : job.polylines)
   {
     out << "  - type: " << (line.type == PolylineType::Mark ? "mark" : "jump") << "\n";

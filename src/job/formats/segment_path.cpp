@@ -2,6 +2,7 @@
 /// \brief Reader of the "segment" scan-path format (adamantine, AdditiveFOAM) into a Job.
 #include "scanhead/job/formats/segment_path.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -143,16 +144,36 @@ std::size_t wordCount(const std::string& text)
   return n;
 }
 
+/// \brief Auto: what column 5 is by the column header's fifth word ("Mode x y z pmod param"): "pmod…" a coefficient,
+/// "power…" W; otherwise Auto (the values decide).
+SegmentPower columnFiveByHeader(const std::string& header)
+{
+  std::istringstream words(header);
+  std::string word;
+  for (int i = 0; i < 5 && words >> word; ++i)
+  {
+  }
+  if (!words)
+    return SegmentPower::Auto;
+  for (char& c : word)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (word.compare(0, 4, "pmod") == 0)
+    return SegmentPower::Coefficient;
+  if (word.compare(0, 5, "power") == 0)
+    return SegmentPower::Watts;
+  return SegmentPower::Auto;
+}
+
 /// The parser's state: the job built so far, the current point, the polyline rows merge into.
 class SegmentBuilder
 {
 public:
-  /// \param watts column 5 is the power in W (AdditiveFOAM), else a coefficient of the nominal power
-  SegmentBuilder(const std::string& source, const SegmentReadOptions& options, bool watts)
+  /// \param power what column 5 is, Auto if the values must decide (finish())
+  SegmentBuilder(const std::string& source, const SegmentReadOptions& options, SegmentPower power)
     : source_(source)
     , options_(options)
-    , power_scale_w_(watts ? 1.0 : options.power_w)
-    , power_field_(watts ? kPowerFieldWatts : kFieldNames[4])
+    , power_(power)
+    , power_field_(power == SegmentPower::Coefficient ? kFieldNames[4] : kPowerFieldWatts)
   {
     job_.name = stemOf(source);
     job_.source = source;
@@ -203,15 +224,32 @@ public:
       fail(line, power_field_, "must be >= 0 (got " + shortestText(coefficient, 15) + ")");
     const double param = value[5];
     ++rows_;
+    if (rows_ > 1 && value[3] != z_)
+      ++layer_;  // z changed: a new layer
+    z_ = value[3];
+    max_column5_ = std::max(max_column5_, coefficient);
 
+    // Column 5 is kept as read; finish() scales it to W once the whole file has said what it is.
+    const bool selected = options_.layer < 0 || layer_ == static_cast<std::size_t>(options_.layer);
     if (mode == 1.0)
-      spot(line, point, coefficient, param);
+      spot(line, point, coefficient, param, selected);
     else
-      lineTo(line, point, coefficient, param);
+      lineTo(line, point, coefficient, param, selected);
   }
 
   std::size_t rows() const { return rows_; }
-  Job take() { return std::move(job_); }
+  std::size_t layers() const { return rows_ == 0 ? 0 : layer_ + 1; }
+
+  /// \brief The job, its powers in W: column 5 × the nominal power, or as read (see SegmentPower).
+  Job finish()
+  {
+    const bool watts =
+        power_ == SegmentPower::Watts || (power_ == SegmentPower::Auto && max_column5_ > kMaxCoefficient);
+    const double scale_w = watts ? 1.0 : options_.power_w;
+    for (Polyline& poly : job_.polylines)
+      poly.power_w *= scale_w;
+    return std::move(job_);
+  }
 
   [[noreturn]] void fail(const Line& line, const std::string& field, const std::string& what) const
   {
@@ -219,33 +257,39 @@ public:
   }
 
 private:
-  void spot(const Line& line, const Eigen::Vector2d& point, double coefficient, double dwell_s)
+  void spot(const Line& line, const Eigen::Vector2d& point, double coefficient, double dwell_s, bool selected)
   {
     if (!(dwell_s >= 0.0))
       fail(line, "param", "a spot's dwell time must be >= 0 s (got " + shortestText(dwell_s, 15) + ")");
     merging_ = false;
     has_point_ = true;
     current_ = point;
-    if (!(dwell_s > 0.0))
+    if (!(dwell_s > 0.0) || !selected)
       return;  // only goes there
     if (!(coefficient > 0.0) && job_.polylines.empty())
       return;  // a laser-off wait before anything: only shifts the time origin
     Polyline dwell;
     dwell.type = PolylineType::Mark;
-    dwell.power_w = coefficient * power_scale_w_;
+    dwell.power_w = coefficient;
     dwell.dwell_s = dwell_s;
     dwell.points.push_back(point);
     job_.polylines.push_back(std::move(dwell));
   }
 
-  void lineTo(const Line& line, const Eigen::Vector2d& point, double coefficient, double speed_mps)
+  void lineTo(const Line& line, const Eigen::Vector2d& point, double coefficient, double speed_mps, bool selected)
   {
     if (!has_point_)
       fail(line, "mode", "the first row must be a spot (mode 1): a line (mode 0) needs a start point");
     if (!(speed_mps > 0.0))
       fail(line, "param", "a line's speed must be > 0 m/s (got " + shortestText(speed_mps, 15) + ")");
+    if (!selected)
+    {
+      merging_ = false;
+      current_ = point;
+      return;
+    }
     const PolylineType type = coefficient > 0.0 ? PolylineType::Mark : PolylineType::Jump;
-    const double power_w = coefficient > 0.0 ? coefficient * power_scale_w_ : 0.0;
+    const double power_w = coefficient > 0.0 ? coefficient : 0.0;  // column 5 as read
     if (merging_)
     {
       Polyline& last = job_.polylines.back();
@@ -269,8 +313,12 @@ private:
 
   const std::string& source_;
   const SegmentReadOptions& options_;
-  const double power_scale_w_;  ///< [W] per unit of column 5
+  static constexpr double kMaxCoefficient = 1.0;  ///< Auto: column 5 above this anywhere is in W
+  const SegmentPower power_;
   const char* const power_field_;
+  std::size_t layer_ = 0;  ///< layer of the current row
+  double z_ = 0.0;         ///< z of the previous row
+  double max_column5_ = 0.0;
   Job job_;
   std::string word_;
   Eigen::Vector2d current_ = Eigen::Vector2d::Zero();
@@ -290,6 +338,9 @@ Job parseSegmentPath(const std::string& text, const std::string& source, const S
 {
   options.validate();
   LineReader reader(text);
+  auto fail = [&source](const Line& at, const std::string& field, const std::string& what) {
+    throw InputError(source + ":" + std::to_string(at.number) + ": " + field + ": " + what);
+  };
   const std::string header_help =
       "expected the header: a title line, the number of segments, then 'Mode x y z pmod param' (adamantine), "
       "or only 'Mode x y z power param' (AdditiveFOAM)";
@@ -302,7 +353,11 @@ Job parseSegmentPath(const std::string& text, const std::string& source, const S
                      header_help);
   std::string word = trimmed(text, line);
   const bool additive_foam = startsWithMode(word);
-  SegmentBuilder builder(source, options, additive_foam);
+  // Auto: a header that names column 5 decides (adamantine's "pmod", AdditiveFOAM's "Power",
+  // 3DThesis's "Pmod"); else the values do, in finish(). The header line is found below for adamantine.
+  SegmentPower power = options.power_column;
+  if (power == SegmentPower::Auto && additive_foam)
+    power = columnFiveByHeader(word);
   std::uint64_t count = 0;
   Line count_line = line;
   if (!additive_foam)
@@ -311,28 +366,31 @@ Job parseSegmentPath(const std::string& text, const std::string& source, const S
     {
       // a title line; the count must follow
       if (!reader.nextNonBlank(line))
-        builder.fail(Line{0, 0, reader.lastLine() + 1}, "count", "missing; " + header_help);
+        fail(Line{0, 0, reader.lastLine() + 1}, "count", "missing; " + header_help);
       word = trimmed(text, line);
       if (!parseCount(word, count))
-        builder.fail(line, "count",
-                     "'" + excerpt(word) + "' is not a number of segments (a non-negative integer); " + header_help);
+        fail(line, "count",
+             "'" + excerpt(word) + "' is not a number of segments (a non-negative integer); " + header_help);
     }
     count_line = line;
     if (!reader.nextNonBlank(line))
-      builder.fail(Line{0, 0, reader.lastLine() + 1}, "header", "missing the column header 'Mode x y z pmod param'");
+      fail(Line{0, 0, reader.lastLine() + 1}, "header", "missing the column header 'Mode x y z pmod param'");
     word = trimmed(text, line);
     if (!startsWithMode(word))
-      builder.fail(line, "header", "'" + excerpt(word) + "' is not the column header 'Mode x y z pmod param'");
+      fail(line, "header", "'" + excerpt(word) + "' is not the column header 'Mode x y z pmod param'");
+    if (power == SegmentPower::Auto)
+      power = columnFiveByHeader(word);
 
     // The count may not exceed what the rest of the file can hold; never used to reserve.
     const std::size_t rest = text.size() - reader.position();
     const std::uint64_t max_rows = (static_cast<std::uint64_t>(rest) + 1) / kMinRowBytes;
     if (count > max_rows)
-      builder.fail(count_line, "count",
-                   std::to_string(count) + " segments cannot fit in the " + std::to_string(rest) +
-                       " bytes that follow the header (at most " + std::to_string(max_rows) + " rows)");
+      fail(count_line, "count",
+           std::to_string(count) + " segments cannot fit in the " + std::to_string(rest) +
+               " bytes that follow the header (at most " + std::to_string(max_rows) + " rows)");
   }
 
+  SegmentBuilder builder(source, options, power);
   while (reader.nextNonBlank(line))
     builder.row(text, line);
   if (builder.rows() == 0)
@@ -341,7 +399,11 @@ Job parseSegmentPath(const std::string& text, const std::string& source, const S
     builder.fail(count_line, "count",
                  "the header says " + std::to_string(count) + " segments but the file has " +
                      std::to_string(builder.rows()) + " rows");
-  return builder.take();
+  if (options.layer >= 0 && static_cast<std::size_t>(options.layer) >= builder.layers())
+    throw InputError(source + ": cam.layer: the file has " + std::to_string(builder.layers()) +
+                     " layer(s) (z changes between rows start a new one), no layer " + std::to_string(options.layer) +
+                     " (layers count from 0; -1: all)");
+  return builder.finish();
 }
 
 Job readSegmentFile(const std::string& path, const SegmentReadOptions& options)

@@ -41,6 +41,15 @@ void flatten(XmlRpc::XmlRpcValue& value, const std::string& prefix, FlatConfig& 
       flatten(item.second, prefix.empty() ? item.first : prefix + "." + item.first, out);
     return;
   }
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeArray)
+  {
+    // A list of numbers (cam.offset_m: [x, y]): its text, parsed by the setting's type as in config_io.
+    std::string text = "[";
+    for (int i = 0; i < value.size(); ++i)
+      text += (i ? ", " : "") + scalarText(value[i]);
+    out[prefix] = ConfigValue{text + "]", "parameter " + prefix};
+    return;
+  }
   out[prefix] = ConfigValue{scalarText(value), "parameter " + prefix};
 }
 }  // namespace

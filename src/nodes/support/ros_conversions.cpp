@@ -49,6 +49,9 @@ Job fromMsg(const ScanJob& msg)
   Job job;
   job.name = msg.name;
   job.source = msg.source;
+  job.placement.rotation_deg = msg.placement_rotation_deg;
+  job.placement.offset_m = Eigen::Vector2d(msg.placement_offset_m[0], msg.placement_offset_m[1]);
+  job.placement.centred = msg.placement_centred;
   for (const ScanPolyline& p : msg.polylines)
   {
     checkSize(p.y.size(), p.x.size(), "ScanPolyline.y");
@@ -73,6 +76,9 @@ ScanJob toMsg(const Job& job, std::uint32_t job_id)
   msg.job_id = job_id;
   msg.name = job.name;
   msg.source = job.source;
+  msg.placement_rotation_deg = job.placement.rotation_deg;
+  msg.placement_offset_m = {job.placement.offset_m.x(), job.placement.offset_m.y()};
+  msg.placement_centred = job.placement.centred;
   for (const Polyline& line : job.polylines)
   {
     ScanPolyline p;

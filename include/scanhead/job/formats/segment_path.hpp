@@ -18,7 +18,19 @@
 ///
 /// AdditiveFOAM's layout (detected when the first non-blank line is the column header): only
 /// the header `Mode X Y Z Power Param`, then the same rows, except that column 5 is the power in
-/// W (SegmentReadOptions::power_w is then not used).
+/// W (SegmentReadOptions::power_w is then not used). 3DThesis and Myna write the same header-only
+/// layout with column 5 a 0/1 laser flag (`Mode X(mm) Y(mm) Z(mm) Pmod tParam`, ORNL Peregrine
+/// layers), so what column 5 is follows SegmentReadOptions::power_column:
+///  * Auto: the column header's fifth word decides when it names the column: starting with
+///    "pmod" (any case) a coefficient, with "power" the power in W; any other word, or no fifth
+///    word: a coefficient if every row's value is <= 1, else W (a real laser marks at more than
+///    1 W, and a coefficient above 1 would overdrive it);
+///  * Coefficient, Watts: as named, whatever the header says.
+///
+/// Layers: z changes between consecutive rows start a new layer (layer k = 0, 1, ... in file
+/// order, as adamantine's multi-layer files and CLI's $$LAYER); SegmentReadOptions::layer picks one
+/// (-1: all, in order). Rows of the other layers are checked all the same, and they still move
+/// the current point (a layer that starts with a line starts where the previous row ended).
 ///
 /// Mapping to the job (work-plane frame, SI):
 ///  * consecutive mode-0 rows with the same speed and the same power make one polyline, a MARK
@@ -33,7 +45,7 @@
 ///    the NC inserts the implicit jump at its implicit jump speed). Note adamantine times a
 ///    mode-1 move to a new point as param seconds; here (as in AdditiveFOAM, where the beam is
 ///    at a spot's point at once) the move is the NC's implicit jump, then the spot lasts param.
-///  * z is ignored (a scan head marks one plane; adamantine uses z for layers).
+///  * z only separates layers (a scan head marks one plane).
 ///
 /// The count line: adamantine's own example files do not agree with their rows (scan_path_L.txt
 /// says 2 for 3 rows, demo_316_short_scan_path.txt 4 for 3, scan_path_layers.txt 2 for 4), so by
@@ -48,11 +60,21 @@
 
 namespace scanhead
 {
+/// \brief What column 5 of a segment file is (see the file comment).
+enum class SegmentPower
+{
+  Auto,
+  Coefficient,  ///< × SegmentReadOptions::power_w
+  Watts
+};
+
 struct SegmentReadOptions
 {
   double unit_m = 1.0;       ///< length of one file unit [m]: 1 (m) or 1e-3 (mm); finite, > 0
   double power_w = 200.0;    ///< nominal power [W]: a row's power = coefficient × this; finite, >= 0
   bool exact_count = false;  ///< true: the header's count must equal the number of rows
+  SegmentPower power_column = SegmentPower::Auto;
+  int layer = -1;  ///< layer to read (z changes start a new one), in file order; -1: all
 
   /// \brief \throws ConfigError naming segment.unit_m or segment.power_w and the value
   void validate() const;
@@ -62,7 +84,8 @@ struct SegmentReadOptions
 /// \param[in] source the file name (or a description) used in error messages
 /// \throws InputError "source:line: field: what is wrong" for a missing or bad header, a wrong
 /// count, a wrong number of columns, a non-numeric or non-finite field, an unknown mode, a
-/// negative speed, time or power coefficient, a first row that is not a spot, or no row at all
+/// negative speed, time or power coefficient, a first row that is not a spot, no row at all, or
+/// a layer that the file does not have (naming how many it has)
 /// \throws ConfigError if \p options is invalid
 Job parseSegmentPath(const std::string& text, const std::string& source, const SegmentReadOptions& options);
 
