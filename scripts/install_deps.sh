@@ -19,7 +19,7 @@ packages=(
   ros-robot-state-publisher python3-matplotlib python3-numpy python3-yaml python3-pil rviz
   clang libclang-rt-14-dev
   # independent check of the H∞ synthesis (test_hinf_synthesis runs Octave's hinfsyn when installed)
-  octave octave-control
+  octave octave-control slurmd slurmctld slurm-client munge
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -68,6 +68,7 @@ Job JobBuilder::finish(const std::string& source, long declared_layers)
     name += "_layer" + std::to_string(want_);
   job_.name = name;
   job_.source = source;
+  job_.file_layers = static_cast<std::size_t>(layers_);
   return std::move(job_);
 }
 }  // namespace cli

@@ -248,6 +248,9 @@ public:
     const double scale_w = watts ? 1.0 : options_.power_w;
     for (Polyline& poly : job_.polylines)
       poly.power_w *= scale_w;
+    job_.file_layers = layers();
+    if (options_.layer >= 0 && layers() > 1)
+      job_.name += "_layer" + std::to_string(options_.layer);  // as CLI names a selected layer
     return std::move(job_);
   }
 

@@ -1,0 +1,179 @@
+/// \file study_runner.cpp
+/// \brief Cases of a study as scanhead_run processes (study_runner.hpp).
+#include "study_runner.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+
+#include "scanhead/common/errors.hpp"
+#include "scanhead/common/number_text.hpp"
+#include "scanhead/common/stop_request.hpp"
+
+namespace scanhead
+{
+namespace
+{
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+/// \brief Starts scanhead_run for \p c, its stdout and stderr into the case's log. \return its pid
+pid_t startCase(const std::string& dir, const CaseRecord& c, const StudyRunOptions& options)
+{
+  const std::string log = caseLogPath(dir, c.id);
+  std::vector<std::string> words = {
+      options.scanhead_run,      "--job",   c.job,         "--config", caseConfigPath(dir, c.id), "--out",
+      caseResultsDir(dir, c.id), "--plots", options.plots, "--quiet"};
+  std::vector<char*> argv;
+  for (std::string& w : words)
+    argv.push_back(w.data());
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0)
+    throw InputError(std::string("cannot start a case (fork: ") + std::strerror(errno) + ")");
+  if (pid == 0)
+  {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0)
+    {
+      ::dup2(fd, STDOUT_FILENO);
+      ::dup2(fd, STDERR_FILENO);
+      ::close(fd);
+    }
+    ::execv(argv[0], argv.data());
+    std::fprintf(stderr, "scanhead_study: cannot start %s: %s\n", argv[0], std::strerror(errno));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+/// \brief Records how the process of \p c ended (\p status of waitpid). \return true if the case is done
+bool finishCase(const std::string& dir, const CaseRecord& c, int status, double wall_s)
+{
+  const bool published = fs::exists(fs::path(caseResultsDir(dir, c.id)) / "metrics.yaml");
+  if (stopRequest() != 0 && !published)
+  {
+    // The study was stopped (Ctrl-C, SIGTERM): the case did not fail, it stays pending for the next run.
+    fs::remove(fs::path(dir) / "status" / (c.id + ".yaml"));
+    return false;
+  }
+  int exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  std::string error;
+  if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0 && published))
+  {
+    std::ifstream in(caseLogPath(dir, c.id));
+    const std::string log((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    error = WIFSIGNALED(status) ? std::string("killed by signal ") + std::to_string(WTERMSIG(status)) + " (" +
+                                      strsignal(WTERMSIG(status)) + ")"
+                                : errorLineOf(log);
+    if (error.empty())
+      error = "exited with status " + std::to_string(exit_code) + (published ? "" : ", no results");
+  }
+  writeCaseStatus(dir, c.id, error.empty(), exit_code, wall_s, error);
+  return error.empty();
+}
+
+std::string duration(double s)
+{
+  if (s < 90.0)
+    return fixedText(s, 0) + " s";
+  if (s < 5400.0)
+    return fixedText(s / 60.0, 1) + " min";
+  return fixedText(s / 3600.0, 1) + " h";
+}
+}  // namespace
+
+std::string siblingExecutable(const std::string& name)
+{
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path sibling = self.parent_path() / name;
+  if (ec || !fs::exists(sibling))
+    throw InputError("cannot find " + name + " beside this program (" + self.string() + ")");
+  return sibling.string();
+}
+
+bool runStudyCase(const std::string& dir, const CaseRecord& c, const StudyRunOptions& options)
+{
+  const Clock::time_point start = Clock::now();
+  const pid_t pid = startCase(dir, c, options);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR)
+  {
+  }
+  return finishCase(dir, c, status, std::chrono::duration<double>(Clock::now() - start).count());
+}
+
+std::size_t runStudyLocally(const std::string& dir, const std::vector<CaseRecord>& records,
+                            const std::vector<std::size_t>& cases, const StudyRunOptions& options)
+{
+  const Clock::time_point start = Clock::now();
+  std::map<pid_t, std::pair<std::size_t, Clock::time_point>> running;
+  std::size_t next = 0, finished = 0, failed = 0, last_tenth = 0;
+  double case_seconds = 0.0;  // summed wall time of the finished cases
+  auto report = [&] {
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    const double left = finished == 0 ? 0.0
+                                      : (case_seconds / static_cast<double>(finished)) *
+                                            static_cast<double>(cases.size() - finished) /
+                                            static_cast<double>(std::max<unsigned>(1, options.workers));
+    const std::size_t tenth = cases.empty() ? 10 : 10 * finished / cases.size();
+    if (!options.progress_tty && tenth == last_tenth && finished != cases.size())
+      return;
+    last_tenth = tenth;
+    const int width = 30;
+    const int filled = cases.empty() ? width : static_cast<int>(width * finished / cases.size());
+    std::fprintf(stderr, "%s[%s%s] %zu/%zu cases, %zu failed, %s elapsed%s%s", options.progress_tty ? "\r" : "",
+                 std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                 std::string(static_cast<std::size_t>(width - filled), '.').c_str(), finished, cases.size(), failed,
+                 duration(elapsed).c_str(),
+                 finished > 0 && finished < cases.size() ? (", ~" + duration(left) + " left").c_str() : "",
+                 options.progress_tty && finished != cases.size() ? "   " : "\n");
+    std::fflush(stderr);
+  };
+  report();
+  while (next < cases.size() || !running.empty())
+  {
+    if (stopRequest() != 0 && next < cases.size())
+    {
+      next = cases.size();  // start nothing more; the running cases get the signal and end
+      for (const auto& [pid, what] : running)
+        ::kill(pid, SIGTERM);
+    }
+    while (next < cases.size() && running.size() < std::max<unsigned>(1, options.workers))
+    {
+      const std::size_t k = cases[next++];
+      running[startCase(dir, records[k], options)] = {k, Clock::now()};
+    }
+    // Each case's own pid, polled: waiting for any child would also reap the study's plot process.
+    int status = 0;
+    auto it = running.begin();
+    for (; it != running.end(); ++it)
+      if (::waitpid(it->first, &status, WNOHANG) == it->first)
+        break;
+    if (it == running.end())
+    {
+      ::usleep(10000);  // cases last ≥ 0.1 s: 10 ms costs nothing (a signal ends the sleep early)
+      continue;
+    }
+    const double wall = std::chrono::duration<double>(Clock::now() - it->second.second).count();
+    if (!finishCase(dir, records[it->second.first], status, wall) && stopRequest() == 0)
+      ++failed;
+    case_seconds += wall;
+    ++finished;
+    running.erase(it);
+    report();
+  }
+  return failed;
+}
+}  // namespace scanhead
