@@ -120,4 +120,21 @@ grep -q "6 cases: $finished done, 0 failed, $((6 - finished)) to run" slow2.out 
 "$STUDY" status slow | grep -q "6 cases: 6 done" || fail "not all done after the resume"
 after=$(cd slow/cases && find $kept -type f -printf '%p %T@ %s\n' | sort | md5sum)
 [ "$before" = "$after" ] || fail "the resume touched finished cases"
+# A worker killed from outside (the OOM killer, a user): that case fails with the signal, the others go on.
+rm -rf slow
+"$STUDY" run slow.yaml --out slow --workers 2 > kill1.out 2>&1 &
+pid=$!
+victim=""
+for _ in $(seq 600); do
+  victim=$(pgrep -f "scanhead_run --job hatch:size=0.004.*--out slow/cases/" | head -1 || true)
+  [ -n "$victim" ] && break
+  sleep 0.02
+done
+[ -n "$victim" ] || fail "no case process to kill"
+kill -9 "$victim"
+if wait "$pid"; then fail "exit 0 after a killed case"; fi
+"$STUDY" status slow > kill_status.out
+grep -q "6 cases: 5 done, 1 failed, 0 pending" kill_status.out || fail "after a killed worker: $(cat kill_status.out)"
+grep -q "killed by signal 9" kill_status.out || fail "the failure does not name the signal: $(cat kill_status.out)"
+
 echo "PASS: bad files refused, 6 cases with 2 failures kept, a case = scanhead_run's, SIGKILL after $finished: resumed"

@@ -83,6 +83,15 @@ TEST(StudyCases, LayersTimesGrid)
   EXPECT_EQ(ids.size(), cases.size());
 }
 
+// A multi-layer CLI file (test/data/cli/cli_full.cli: 2 layers) is one case per layer too.
+TEST(StudyCases, CliLayers)
+{
+  const auto cases = plan("jobs: [" + std::string(SCANHEAD_SOURCE_DIR) + "/test/data/cli/cli_full.cli]\n");
+  ASSERT_EQ(cases.size(), 2u);
+  EXPECT_EQ(cases[1].layer, 1);
+  EXPECT_EQ(cases[1].id.rfind("cli_full_layer0001_", 0), 0u) << cases[1].id;
+}
+
 // The identity: the same study plans the same ids; a setting, the job file's content or an extra --set changes them.
 TEST(StudyCases, IdentityFollowsJobAndSettings)
 {
