@@ -15,6 +15,7 @@ RUN="$BIN/scanhead_run"
 TMP=$(mktemp -d /tmp/scanhead_study.XXXXXX)
 trap 'rm -rf "$TMP"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/study_test_lib.sh"
 expect_error() {  # expect_error TEXT ARGS...: the command fails, naming TEXT
   local text=$1
   shift
@@ -23,18 +24,8 @@ expect_error() {  # expect_error TEXT ARGS...: the command fails, naming TEXT
 }
 cd "$TMP"
 
-# A 2-layer ORNL Peregrine-style file (3DThesis layout, mm, plate frame, column 5 a 0/1 flag) and a bad one.
-cat > layers.txt << 'JOB'
-Mode	X(mm)	Y(mm)	Z(mm)	Pmod	tParam
-1	198.0	19.0	2.50	0	0.0
-0	200.0	19.0	2.50	1	0.8
-0	200.0	19.1	2.50	0	2.0
-0	198.0	19.1	2.50	1	0.8
-1	198.5	19.0	2.55	0	0.0
-0	200.5	19.5	2.55	1	0.8
-0	200.5	19.6	2.55	0	2.0
-0	198.5	19.1	2.55	1	0.8
-JOB
+# The 2-layer Peregrine-style file of study_test_lib.sh and a bad one.
+cp "$STUDY_TEST_JOB" layers.txt
 printf 'Mode\tX(mm)\tY(mm)\tZ(mm)\tPmod\ttParam\n1\t0\t0\t0\t0\t0\n0\t1\t0\t0\t1\t-0.8\n' > broken.txt
 
 # Bad study files.
@@ -50,14 +41,9 @@ expect_error "not a study folder" "$STUDY" status "$TMP/nowhere"
 [ ! -e bad ] || fail "a bad study file left a folder"
 
 cat > study.yaml << 'YAML'
-jobs:
-  - layers.txt
-  - broken.txt
-set:
-  cam.units: mm
-  cam.centre: true
-grid:
-  servo.position_controller: [pd, hinf]
+jobs: [layers.txt, broken.txt]
+set: {cam.units: mm, cam.centre: true}
+grid: {servo.position_controller: [pd, hinf]}
 YAML
 # 2 layers × 2 + the broken file × 2 = 6 cases, 2 of which fail.
 if "$STUDY" run study.yaml --out out --workers 2 > run1.out 2>&1; then fail "a study with failed cases exited 0"; fi
@@ -77,15 +63,8 @@ grep -q "## Failed cases" out/summary.md || fail "summary.md names no failure"
 case_dir=$(ls -d out/cases/layers_layer0000_position_controller-pd_*)
 "$RUN" --job layers.txt --set cam.units=mm --set cam.centre=true --set servo.position_controller=pd \
   --set cam.layer=0 --out direct --plots none --quiet > /dev/null
-for f in direct/*; do
-  name=$(basename "$f")
-  [ -f "$f" ] || continue
-  if [ "$name" = metrics.yaml ]; then
-    cmp <(grep -v "^peak_memory_bytes" "$f") <(grep -v "^peak_memory_bytes" "$case_dir/$name") || fail "$name differs"
-  else
-    cmp "$f" "$case_dir/$name" || fail "$name differs from scanhead_run's"
-  fi
-done
+same_results direct "$case_dir"
+[ "$COMPARED" -ge 9 ] || fail "only $COMPARED files compared with scanhead_run's"
 grep -q "placement: {rotation_deg: 0, offset_m: \[-0.19925" "$case_dir/metrics.yaml" \
   || fail "the whole file's centre is not the placement: $(grep placement "$case_dir/metrics.yaml")"
 

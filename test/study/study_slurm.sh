@@ -21,6 +21,7 @@ cleanup() {
 trap cleanup EXIT
 skip() { echo "SKIPPED: $*"; exit 77; }
 fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/study_test_lib.sh"
 
 for tool in munged slurmctld slurmd sbatch squeue sinfo; do
   command -v "$tool" > /dev/null || skip "$tool is not installed (scripts/install_deps.sh installs slurmd slurmctld slurm-client munge)"
@@ -91,17 +92,7 @@ done
 echo "slurm: node $NODE idle (slurmctld port $CTLD_PORT, slurmd port $SLURMD_PORT)"
 
 # The study: a 2-layer segment file (z changes) × a 2-value grid = 4 cases.
-cat > "$TMP/layers.txt" << 'JOB'
-Mode	X(mm)	Y(mm)	Z(mm)	Pmod	tParam
-1	198.0	19.0	2.50	0	0.0
-0	200.0	19.0	2.50	1	0.8
-0	200.0	19.1	2.50	0	2.0
-0	198.0	19.1	2.50	1	0.8
-1	198.5	19.0	2.55	0	0.0
-0	200.5	19.5	2.55	1	0.8
-0	200.5	19.6	2.55	0	2.0
-0	198.5	19.1	2.55	1	0.8
-JOB
+cp "$STUDY_TEST_JOB" "$TMP/layers.txt"
 cat > "$TMP/study.yaml" << 'YAML'
 jobs:
   - layers.txt
@@ -122,21 +113,10 @@ cat "$TMP/slurm.out"
 "$STUDY" status "$TMP/slurm" | grep -q "4 cases: 4 done, 0 failed, 0 pending" || fail "status: $("$STUDY" status "$TMP/slurm")"
 [ -s "$TMP/slurm/summary.csv" ] || fail "the collection job wrote no summary.csv"
 [ "$(wc -l < "$TMP/slurm/summary.csv")" -eq 5 ] || fail "summary.csv: $(cat "$TMP/slurm/summary.csv")"
-compared=0
 for dir in "$TMP"/local/cases/*/; do
   id=$(basename "$dir")
   [ -d "$TMP/slurm/cases/$id" ] || fail "case $id is missing from the Slurm run"
-  for f in "$dir"*; do
-    name=$(basename "$f")
-    [ -f "$f" ] || continue
-    if [ "$name" = metrics.yaml ]; then  # the process's own peak memory differs from run to run
-      cmp <(grep -v "^peak_memory_bytes" "$f") <(grep -v "^peak_memory_bytes" "$TMP/slurm/cases/$id/$name") \
-        || fail "$id/$name differs"
-    else
-      cmp "$f" "$TMP/slurm/cases/$id/$name" || fail "$id/$name differs between the local and the Slurm backend"
-    fi
-    compared=$((compared + 1))
-  done
+  same_results "${dir%/}" "$TMP/slurm/cases/$id"
 done
-[ "$compared" -ge 40 ] || fail "only $compared files compared"
-echo "PASS: 4 cases through Slurm, $compared files byte-identical to the local backend's"
+[ "$COMPARED" -ge 40 ] || fail "only $COMPARED files compared"
+echo "PASS: 4 cases through Slurm, $COMPARED files byte-identical to the local backend's"
