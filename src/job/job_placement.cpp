@@ -32,11 +32,6 @@ Eigen::Matrix2d rotation(double degrees)
 }
 }  // namespace
 
-Eigen::Vector2d JobPlacement::apply(const Eigen::Vector2d& p) const
-{
-  return rotation(rotation_deg) * p + offset_m;
-}
-
 std::string JobPlacement::yaml() const
 {
   return "{rotation_deg: " + fullPrecisionText(rotation_deg) + ", offset_m: [" + fullPrecisionText(offset_m.x()) +

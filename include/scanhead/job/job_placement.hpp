@@ -2,7 +2,7 @@
 /// \brief A job in the build plate's frame placed on the scan field: rotated about the plate origin, then offset.
 ///
 /// Build files from slicers and machines are in plate coordinates (an ORNL Peregrine layer lies around
-/// x = 180 mm, y = 75 mm); a machine maps its plate onto the scan field by a rigid motion. With
+/// x = 200 mm, y = 20 mm); a machine maps its plate onto the scan field by a rigid motion. With
 /// cam.rotation_deg = θ and cam.offset_m = o, a point p of the file lands at
 ///   p_field = R(θ)·p + o,   R(θ) = [cos θ, −sin θ; sin θ, cos θ]   (counter-clockwise, about the plate origin);
 /// with cam.centre the translation is chosen so that the centre of the rotated job's bounding box lands on o:
@@ -27,7 +27,6 @@ struct JobPlacement
   bool centred = false;                                ///< offset_m came from cam.centre
 
   bool identity() const { return rotation_deg == 0.0 && offset_m.isZero(); }
-  Eigen::Vector2d apply(const Eigen::Vector2d& p) const;
   /// \brief One YAML flow map: {rotation_deg: θ, offset_m: [x, y], centred: true|false}.
   std::string yaml() const;
 };
