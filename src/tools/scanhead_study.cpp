@@ -15,6 +15,7 @@
 #include "scanhead/common/package_path.hpp"
 #include "scanhead/common/stop_request.hpp"
 #include "scanhead/study/study_cases.hpp"
+#include "scanhead/study/study_estimate.hpp"
 #include "scanhead/study/study_folder.hpp"
 #include "scanhead/study/study_summary.hpp"
 #include "support/command_line.hpp"
@@ -190,6 +191,16 @@ int main(int argc, char** argv)
       if (r.state == CaseState::Pending || (retry_failed && r.state == CaseState::Failed))
         todo.push_back(r.index);
     const Counts c = countOf(records);
+    // Said before anything runs, so that a study of hours is known as such (run plans, ×0.5–2).
+    const StudyEstimate estimate = estimateStudy(cases, todo);
+    const double per_worker = backend == "local" ? estimate.wall_time_s / std::max(1u, workers) : estimate.wall_time_s;
+    if (!todo.empty())
+      std::cerr << "scanhead_study: " << todo.size() << " cases to run: " << durationText(estimate.machine_time_s)
+                << " of machine time, estimated " << durationText(0.5 * per_worker) << " to "
+                << durationText(2.0 * per_worker) << (backend == "local" ? " here" : " of CPU on the cluster")
+                << " (the chains; run plans)"
+                << (estimate.unplanned > 0 ? ", " + std::to_string(estimate.unplanned) + " cases unreadable" : "")
+                << (0.5 * per_worker > 3600.0 ? ": hours; consider --backend slurm or fewer cases" : "") << "\n";
     std::cerr << "scanhead_study: " << records.size() << " cases: " << c.done << " done, " << c.failed << " failed"
               << (c.failed > 0 && !retry_failed ? " (kept; --retry-failed runs them again)" : "") << ", " << todo.size()
               << " to run (" << (backend == "local" ? "local, " + std::to_string(workers) + " at once" : backend)

@@ -48,6 +48,8 @@ YAML
 # 2 layers × 2 + the broken file × 2 = 6 cases, 2 of which fail.
 if "$STUDY" run study.yaml --out out --workers 2 > run1.out 2>&1; then fail "a study with failed cases exited 0"; fi
 grep -q "6 cases: 0 done, 0 failed, 6 to run (local, 2 at once)" run1.out || fail "plan line: $(cat run1.out)"
+grep -q "6 cases to run: .* of machine time, estimated .* here (the chains; run plans), 2 cases unreadable" run1.out \
+  || fail "no time estimate before the run: $(cat run1.out)"
 "$STUDY" status out > status.out
 grep -q "6 cases: 4 done, 2 failed, 0 pending" status.out || fail "status: $(cat status.out)"
 grep -q "failed broken_position_controller-pd_.*param: a line's speed must be > 0 m/s" status.out \

@@ -19,6 +19,7 @@
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
 #include "scanhead/common/stop_request.hpp"
+#include "scanhead/study/study_estimate.hpp"
 
 namespace scanhead
 {
@@ -83,14 +84,6 @@ bool finishCase(const std::string& dir, const CaseRecord& c, int status, double 
   return error.empty();
 }
 
-std::string duration(double s)
-{
-  if (s < 90.0)
-    return fixedText(s, 0) + " s";
-  if (s < 5400.0)
-    return fixedText(s / 60.0, 1) + " min";
-  return fixedText(s / 3600.0, 1) + " h";
-}
 }  // namespace
 
 std::string siblingExecutable(const std::string& name)
@@ -136,8 +129,8 @@ std::size_t runStudyLocally(const std::string& dir, const std::vector<CaseRecord
     std::fprintf(stderr, "%s[%s%s] %zu/%zu cases, %zu failed, %s elapsed%s%s", options.progress_tty ? "\r" : "",
                  std::string(static_cast<std::size_t>(filled), '#').c_str(),
                  std::string(static_cast<std::size_t>(width - filled), '.').c_str(), finished, cases.size(), failed,
-                 duration(elapsed).c_str(),
-                 finished > 0 && finished < cases.size() ? (", ~" + duration(left) + " left").c_str() : "",
+                 durationText(elapsed).c_str(),
+                 finished > 0 && finished < cases.size() ? (", ~" + durationText(left) + " left").c_str() : "",
                  options.progress_tty && finished != cases.size() ? "   " : "\n");
     std::fflush(stderr);
   };
