@@ -145,6 +145,7 @@ int main(int argc, char** argv)
     const std::unique_ptr<PlotProcess> plotter = startResultsPlots(args.plots);
     BatchChain chain(config, optics);
     int last_percent = -1;
+    const bool to_terminal = ::isatty(STDERR_FILENO) != 0;
     const auto start = std::chrono::steady_clock::now();
     std::uint64_t plotter_checked = 0;
     const RunMetrics metrics = chain.run(job, plan, [&](std::uint64_t done, std::uint64_t total) {
@@ -157,16 +158,19 @@ int main(int argc, char** argv)
           throw PlotError(plotter->failure() + kNoPlotsHint);
       }
       const int percent = static_cast<int>(100 * done / total);
-      if (!args.quiet && total > 200000 && percent != last_percent)
+      // A terminal: one line rewritten each percent; a log (not a TTY): one line every 10 %.
+      const bool show = to_terminal ? percent != last_percent : percent / 10 != last_percent / 10;
+      if (!args.quiet && total > 200000 && show)
       {
         // Progress with the real-time factor so far and the time left at that pace.
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         const double machine = static_cast<double>(done) * config.nc.period_s;
         const double left = done > 0 ? wall * static_cast<double>(total - done) / static_cast<double>(done) : 0.0;
-        std::fprintf(stderr, "\r%3d %% of %llu samples (%.1f s of machine time), %.1fx real time, %.0f s left   ",
-                     percent, static_cast<unsigned long long>(total), static_cast<double>(total) * config.nc.period_s,
-                     wall > 0.0 ? machine / wall : 0.0, left);
-        if (done == total)
+        std::fprintf(stderr, "%s%3d %% of %llu samples (%.1f s of machine time), %.1fx real time, %.0f s left%s",
+                     to_terminal ? "\r" : "", percent, static_cast<unsigned long long>(total),
+                     static_cast<double>(total) * config.nc.period_s, wall > 0.0 ? machine / wall : 0.0, left,
+                     to_terminal ? "   " : "\n");
+        if (to_terminal && done == total)
           std::fprintf(stderr, "\n");
       }
       last_percent = percent;

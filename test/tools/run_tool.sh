@@ -85,5 +85,16 @@ if /usr/bin/python3 -c "import matplotlib" 2> /dev/null; then
 else
   echo "skip plot_results.py by hand: no python3-matplotlib"
 fi
+# Progress in a log (stderr not a terminal): one line every 10 % with the time left, no carriage returns;
+# --quiet: none.
+"$run" --job hatch:size=0.02 --out "$tmp/progress" --plots none 2> "$tmp/progress.err" > /dev/null
+lines=$(grep -c "% of 402784 samples .* s left$" "$tmp/progress.err")
+if [ "$lines" -ge 9 ] && [ "$lines" -le 11 ] && ! grep -q $'\r' "$tmp/progress.err"; then
+  ok "progress in a log: $lines lines, one per 10 %"
+else
+  fail "progress in a log: $lines lines: $(head -c 400 "$tmp/progress.err" | tr '\r' '|')"
+fi
+"$run" --job hatch:size=0.02 --out "$tmp/progress" --plots none --quiet 2> "$tmp/quiet.err" > /dev/null
+grep -q "% of" "$tmp/quiet.err" && fail "--quiet printed progress" || ok "--quiet: no progress"
 echo "$failures failure(s)"
 [ $failures -eq 0 ]
