@@ -29,3 +29,4 @@ if grep -q '^complete: false' "$out/metrics.yaml"; then
     "(metrics.yaml: dropped_samples, stream_gap)" >&2
   exit 1
 fi
+echo "run_virtual_machine: done, results in $out"

@@ -1,11 +1,14 @@
 #include "energy_accumulator_ros.hpp"
 
+#include <signal.h>
+
 #include <scanhead/ChunkAck.h>
 #include <scanhead/JobMetrics.h>
 
 #include "ros_config.hpp"
 #include "ros_conversions.hpp"
 #include "ros_energy_views.hpp"
+#include "ros_launch_end.hpp"
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/chain/results_writer.hpp"
 #include "scanhead/chain/run_plan.hpp"
@@ -238,7 +241,19 @@ void EnergyAccumulatorNode::shutdownIfDone()
     ROS_FATAL("energy: the job failed (see above); shutting down with an error (exit code 1)");
   if (exit_when_done_)  // after a delay that lets a recorder write the last chunks
     shutdown_timer_ = nh_.createWallTimer(
-        ros::WallDuration(std::max(shutdown_delay_s_, 1e-3)), [](const ros::WallTimerEvent&) { ros::shutdown(); },
+        ros::WallDuration(std::max(shutdown_delay_s_, 1e-3)),
+        [this](const ros::WallTimerEvent&) {
+          // Done: under roslaunch, end the whole launch as Ctrl-C does (exit 0, no "REQUIRED process has died"
+          // banner); a failure, rostest or a node started by hand end this process (the required-node path).
+          const pid_t launcher = failed_ ? -1 : roslaunchAncestor();
+          if (launcher > 0)
+          {
+            ROS_INFO("scanhead: done, results in %s", out_.empty() ? "(no results folder)" : out_.c_str());
+            if (::kill(launcher, SIGINT) == 0)
+              return;
+          }
+          ros::shutdown();
+        },
         true);
 }
 

@@ -27,5 +27,10 @@ for mode in true:false false:true; do
     fi
   done
   grep -q "^dropped_samples: 0$" "$tmp/graph-$live/metrics.yaml"
+  # A job done ends the launch as Ctrl-C does (exit 0 above): "done, results in", no red "REQUIRED process" banner.
+  for log in "graph-$live" "replay-$replay"; do
+    grep -q "scanhead: done, results in $tmp/$log" "$tmp/$log.log" || { echo "FAIL: $log: no 'done' line"; exit 1; }
+    if grep -q "REQUIRED process" "$tmp/$log.log"; then echo "FAIL: $log ended with the required-node banner"; exit 1; fi
+  done
   echo "nodelets:=$live graph, nodelets:=$replay replay and batch metrics.yaml are identical"
 done
