@@ -172,12 +172,26 @@ def plot_energy(folder, job):
     extent = [x0 * 1e3, (x0 + pixel * energy["width"]) * 1e3, y0 * 1e3, (y0 + pixel * energy["height"]) * 1e3]
     fig, ax = new_figure((8, 6), left=0.1, right=0.98, bottom=0.09, top=0.94)
     shown = ax.imshow(density, origin="upper", extent=extent, cmap="inferno", interpolation="nearest")
-    # The commanded path over the map while it stays readable: everything, else the contours only.
+    # The commanded path over the map only where it does not hide the energy: everything, else the contours
+    # only, else nothing (a hatched part: its lines a few pixels apart would paint the map cyan).
+    axis_px = 0.8 * 8 * 120  # the map's width on the figure [px]
+    mm_per_px = max(extent[1] - extent[0], extent[3] - extent[2]) / axis_px
+
+    def hides(mask):
+        """Drawn at lw 0.6 (1 px), the selected polylines would cover more than 1/8 of the map."""
+        pts, counts = job.select(mask)
+        if len(pts) < 2:
+            return False
+        steps = np.linalg.norm(np.diff(pts, axis=0), axis=1) * 1e3
+        steps[np.cumsum(counts)[:-1] - 1] = 0.0  # no segment between two polylines
+        area = (extent[1] - extent[0]) * (extent[3] - extent[2])
+        return steps.sum() * mm_per_px > area / 8.0 or len(pts) > MAX_PATH_POINTS
+
     title = "Deposited energy (commanded path in cyan)"
-    if len(job.points) > MAX_PATH_POINTS:
+    if hides(np.ones(len(job.is_mark), dtype=bool)):
         title = "Deposited energy (contours in cyan)"
-        if np.diff(job.start)[job.contour].sum() > MAX_PATH_POINTS or not job.contour.any():
-            title = "Deposited energy"
+        if not job.contour.any() or hides(job.contour):
+            title = "Deposited energy (path not drawn: it would hide the map; see job.png)"
     if title.endswith("path in cyan)"):
         for mask, style in ((job.is_mark, "-"), (~job.is_mark, "--")):
             pts = job.with_gaps(mask)
