@@ -3,6 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "scanhead/common/number_text.hpp"
+#include "scanhead/report/bitmap_font.hpp"
 
 namespace scanhead
 {
@@ -86,7 +90,18 @@ RgbImage renderEnergyMap(const EnergyMap& map, double scale_max_jpm2, int max_si
   const int bar = std::max(8, mw / 20);
   const int tick = std::max(4, bar / 2);
   const int height = std::max(mh, 16);
-  RgbImage image(mw + gap + bar + tick, height);
+  // Tick labels in J/mm² (the top one with the unit), in the 5 × 7 font at a scale that stays readable on a
+  // large overview (a glyph ≈ 1/17 of the bar's height, at least 7 px).
+  const int font = std::max(1, std::min(8, mh / 120));
+  std::string labels[5];
+  int label_width = 0;
+  for (int q = 0; q <= 4; ++q)
+  {
+    labels[q] = significantText(scale * 1e-6 * q / 4.0, 3) + (q == 4 ? " J/mm\xC2\xB2" : "");
+    label_width = std::max(label_width, textWidth(labels[q], font));
+  }
+  const int pad = 2 * font;
+  RgbImage image(mw + gap + bar + tick + pad + label_width + pad, height);
   std::fill(image.rgb.begin(), image.rgb.end(), std::uint8_t(255));  // white background
 
   // Map, +y up: image row Y shows map block row mh − 1 − Y.
@@ -115,10 +130,16 @@ RgbImage renderEnergyMap(const EnergyMap& map, double scale_max_jpm2, int max_si
     const double f = mh == 1 ? 1.0 : 1.0 - static_cast<double>(y) / (mh - 1);
     fill(image, bar_x0, y, bar_x0 + bar, y + 1, inferno(f));
   }
+  // Labels at every quarter where they fit (else at 0 and the top only), centred on their tick, kept inside.
+  const bool all_labels = mh / 4 >= (kGlyphHeight + 2) * font;
   for (int q = 0; q <= 4; ++q)
   {
     const int y = static_cast<int>(std::lround((1.0 - q / 4.0) * (mh - 1)));
     fill(image, bar_x0 + bar, y, bar_x0 + bar + tick - 1, y + 1, {0, 0, 0});
+    if (!all_labels && q != 0 && q != 4)
+      continue;
+    const int top = std::min(std::max(0, y - kGlyphHeight * font / 2), height - kGlyphHeight * font);
+    drawText(image, bar_x0 + bar + tick + pad, top, labels[q], font);
   }
   if (layout)
   {

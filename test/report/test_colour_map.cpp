@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "scanhead/report/bitmap_font.hpp"
 #include "scanhead/report/colour_map.hpp"
 
 using scanhead::EnergyImageLayout;
@@ -84,4 +85,43 @@ TEST(ColourMap, RenderEnergyMap)
   EXPECT_EQ(gray.at(10, 9), 65535);
   EXPECT_EQ(gray.at(90, 44), 16384);  // round(65535 / 4)
   EXPECT_EQ(gray.at(0, 0), 0);
+}
+
+// The colour bar is labelled: at each quarter tick its value in J/mm² (the top one with the unit), drawn exactly
+// where the layout says (compared with the same text drawn alone); a bar without labels fails here.
+TEST(ColourMap, ColourBarLabels)
+{
+  EnergyMap map(Eigen::Vector2d(0, 0), Eigen::Vector2d(600e-6, 600e-6), 1e-6);  // 600 x 600: font scale 5
+  map.row(300)[300] = 1.0f;
+  EnergyImageLayout layout;
+  const scanhead::RgbImage img = scanhead::renderEnergyMap(map, 2.0e6, 0, &layout);  // scale 2 J/mm²
+  const int font = 5, h = 600;
+  const int tick = std::max(4, std::max(8, 600 / 20) / 2);
+  const int x = layout.bar_x0 + layout.bar_width + tick + 2 * font;
+  const char* expected[5] = {"0", "0.5", "1", "1.5", "2 J/mm\xC2\xB2"};
+  for (int q = 0; q <= 4; ++q)
+  {
+    const int y = static_cast<int>(std::lround((1.0 - q / 4.0) * (h - 1)));
+    const int top = std::min(std::max(0, y - scanhead::kGlyphHeight * font / 2), h - scanhead::kGlyphHeight * font);
+    scanhead::RgbImage alone(img.width, img.height);
+    std::fill(alone.rgb.begin(), alone.rgb.end(), std::uint8_t(255));
+    scanhead::drawText(alone, x, top, expected[q], font);
+    int dark = 0, differ = 0;
+    for (int py = top; py < top + scanhead::kGlyphHeight * font; ++py)
+      for (int px = x; px < img.width; ++px)
+      {
+        dark += img.pixel(px, py)[0] == 0;
+        differ += img.pixel(px, py)[0] != alone.pixel(px, py)[0];
+      }
+    EXPECT_GE(dark, 8 * font * font) << "no label at tick " << q;  // "1", the leanest, has 10 font pixels
+    EXPECT_EQ(differ, 0) << "tick " << q << " is not labelled '" << expected[q] << "'";
+  }
+  EXPECT_GE(img.width, x + scanhead::textWidth("2 J/mm\xC2\xB2", font));
+  // An unknown character is drawn as a box, never dropped; "²" is one glyph.
+  EXPECT_EQ(scanhead::textWidth("m\xC2\xB2", 1), 2 * scanhead::kGlyphAdvance - 1);
+  scanhead::RgbImage box(10, 10);
+  scanhead::drawText(box, 0, 0, "%", 1, {255, 255, 255});
+  EXPECT_EQ(box.pixel(0, 0)[0], 255);
+  EXPECT_EQ(box.pixel(4, 6)[0], 255);
+  EXPECT_EQ(box.pixel(2, 3)[0], 0);
 }
