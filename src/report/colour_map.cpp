@@ -123,6 +123,23 @@ RgbImage renderEnergyMap(const EnergyMap& map, double scale_max_jpm2, int max_si
     }
   }
 
+  // Scale bar in the map's bottom-left corner: a round length (1, 2 or 5 × 10^k mm) near a fifth of the width,
+  // white with its length above it, when the map is large enough to hold it.
+  const double mm_per_px = map.pixel() * 1e3 * block;
+  if (mw >= 40 * font && mh >= 20 * font && mm_per_px > 0.0)
+  {
+    const double target = 0.2 * mw * mm_per_px;
+    const double base = std::pow(10.0, std::floor(std::log10(target)));
+    const double length = 5.0 * base <= target ? 5.0 * base : 2.0 * base <= target ? 2.0 * base : base;
+    const int px = static_cast<int>(std::lround(length / mm_per_px));
+    const std::string label = significantText(length, 3) + " mm";
+    const int x0 = 3 * font, y1 = mh - 3 * font, label_top = y1 - 4 * font - kGlyphHeight * font;
+    // On a black backing, so that it reads over hot tracks too.
+    fill(image, x0 - font, label_top - font, x0 + std::max(px, textWidth(label, font)) + font, y1 + font, {0, 0, 0});
+    fill(image, x0, y1 - 2 * font, x0 + px, y1, {255, 255, 255});
+    drawText(image, x0, label_top, label, font, {255, 255, 255});
+  }
+
   // Colour bar over the map's rows: top = scale, bottom = 0; ticks at quarters.
   const int bar_x0 = mw + gap;
   for (int y = 0; y < mh; ++y)

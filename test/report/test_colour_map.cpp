@@ -117,6 +117,18 @@ TEST(ColourMap, ColourBarLabels)
     EXPECT_EQ(differ, 0) << "tick " << q << " is not labelled '" << expected[q] << "'";
   }
   EXPECT_GE(img.width, x + scanhead::textWidth("2 J/mm\xC2\xB2", font));
+  // The scale bar: 0.1 mm (a round length near a fifth of the 0.6 mm width) = 100 px, white, bottom left,
+  // its length written above it.
+  EXPECT_EQ(img.pixel(15, 580)[0], 255);
+  EXPECT_EQ(img.pixel(114, 580)[1], 255);
+  EXPECT_EQ(img.pixel(116, 580)[1], 0);
+  scanhead::RgbImage label(img.width, img.height);
+  scanhead::drawText(label, 15, 585 - 20 - 35, "0.1 mm", font, {255, 255, 255});
+  int label_differ = 0;
+  for (int py = 530; py < 565; ++py)
+    for (int px = 15; px < 15 + scanhead::textWidth("0.1 mm", font); ++px)
+      label_differ += (img.pixel(px, py)[0] == 255) != (label.pixel(px, py)[0] == 255);
+  EXPECT_EQ(label_differ, 0) << "the scale bar is not labelled '0.1 mm'";
   // An unknown character is drawn as a box, never dropped; "²" is one glyph.
   EXPECT_EQ(scanhead::textWidth("m\xC2\xB2", 1), 2 * scanhead::kGlyphAdvance - 1);
   scanhead::RgbImage box(10, 10);

@@ -27,7 +27,8 @@ struct EnergyImageLayout
 /// \brief Renders an energy map with inferno, +y up (row 0 of the image is the map's top row),
 /// and a vertical colour bar on the right: bottom = 0, top = \p scale_max_jpm2, with tick marks
 /// at 0, 25, 50, 75 and 100 % labelled in J/mm² (bitmap_font.hpp; the top one with the unit; on a
-/// bar too short for five labels, 0 and the top only).
+/// bar too short for five labels, 0 and the top only), and a scale bar in the map's bottom-left
+/// corner (a round length of 1, 2 or 5 × 10^k mm near a fifth of the width, labelled).
 /// \param[in] scale_max_jpm2 top of the scale [J/m²]; ≤ 0 or NaN: the map's peak (1 if the map is empty)
 /// \param[in] max_side_px    if > 0 and the map is larger, each image pixel shows the maximum of a
 ///                           block × block square of map pixels (hot spots stay visible), block the
