@@ -63,7 +63,7 @@ void jobMapBounds(const Job& job, double margin_m, Eigen::Vector2d& min_corner, 
 EnergyStage::EnergyStage(const ChainConfig& config, const Job& job, const NcPlan& plan)
   : config_(config)
   , job_name_(job.name)
-  , job_placement_(job.placement.identity() && !job.placement.centred ? std::string() : job.placement.yaml())
+  , job_placement_(job.placement.placed() ? job.placement.yaml() : std::string())
   , actual_delay_s_(actualDelay(plan))
   , accumulator_(makeAccumulator(config, job))
   , corners_(makeCornerTracker(config, plan, actual_delay_s_))

@@ -6,11 +6,19 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <fstream>
+#include <iterator>
 
 #include "scanhead/common/errors.hpp"
 
 namespace scanhead
 {
+std::string readFileOrEmpty(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
 void writeTextFile(const std::string& path, const std::string& text)
 {
   writeFileBytes(path, text.data(), text.size());

@@ -6,11 +6,10 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/text_file.hpp"
 #include "scanhead/job/generators/builtin_jobs.hpp"
 #include "scanhead/job/job_files.hpp"
 
@@ -72,12 +71,6 @@ std::vector<std::string> jobFiles(const StudyJobEntry& entry, const StudySpec& s
                      ")");
   std::sort(files.begin(), files.end());
   return files;
-}
-
-std::string fileBytes(const std::string& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 /// \brief The settings' key of an assignment "key=value".
@@ -175,7 +168,7 @@ std::vector<StudyCase> planStudyCases(const StudySpec& spec, const std::string& 
     const std::vector<std::string> files = builtin ? std::vector<std::string>{entry.text} : jobFiles(entry, spec, j);
     for (const std::string& job : files)
     {
-      const std::string content = builtin ? std::string() : fileBytes(job);
+      const std::string content = builtin ? std::string() : readFileOrEmpty(job);
       // One case per layer of a layered file (unless the study sets cam.layer itself).
       std::size_t layers = 1;
       bool layered = false;

@@ -6,7 +6,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <sstream>
 
 #include "scanhead/common/errors.hpp"
@@ -19,12 +18,6 @@ namespace scanhead
 namespace
 {
 namespace fs = std::filesystem;
-
-std::string readWhole(const fs::path& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 /// \brief The value of "key: value" in a small YAML file written by writeCaseStatus (one key a line).
 std::string statusValue(const std::string& text, const std::string& key)
@@ -88,7 +81,7 @@ void writeStudyPlan(const std::string& dir, const std::string& study_text, const
     tsv += std::to_string(i) + "\t" + c.id + "\t" + field(c.job) + "\t" + std::to_string(c.layer) + "\t" + field(grid) +
            "\n";
     const std::string config = caseConfigPath(dir, c.id);
-    if (!fs::exists(config) || readWhole(config) != c.config_yaml)
+    if (!fs::exists(config) || readFileOrEmpty(config) != c.config_yaml)
       writeFileWhole(config, c.config_yaml);
   }
   writeFileWhole((fs::path(dir) / "cases.tsv").string(), tsv);
@@ -118,7 +111,7 @@ std::vector<CaseRecord> readStudyCases(const std::string& dir)
     r.job = parts[2];
     r.layer = std::atoi(parts[3].c_str());
     r.grid_text = parts.size() > 4 ? parts[4] : "";
-    const std::string status = readWhole(fs::path(dir) / "status" / (r.id + ".yaml"));
+    const std::string status = readFileOrEmpty((fs::path(dir) / "status" / (r.id + ".yaml")).string());
     const bool published = fs::exists(fs::path(caseResultsDir(dir, r.id)) / "metrics.yaml");
     const std::string said = statusValue(status, "status");
     if (said == "failed" && !published)

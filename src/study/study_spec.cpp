@@ -49,8 +49,8 @@ StudySpec readStudyFile(const std::string& path)
 {
   StudySpec spec;
   spec.source = path;
-  const YAML::Node root = parseYamlDocument(readYamlText(path, yamlSettingsLimits("a study file", "the study file")),
-                                            path, yamlSettingsLimits("a study file"));
+  spec.text = readYamlText(path, yamlSettingsLimits("a study file", "the study file"));
+  const YAML::Node root = parseYamlDocument(spec.text, path, yamlSettingsLimits("a study file"));
   if (!root.IsMap())
     throw InputError(path + ":1: expected a map with jobs (and config, set, grid, plots)");
   const fs::path folder = fs::absolute(path).parent_path();

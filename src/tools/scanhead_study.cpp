@@ -3,9 +3,7 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <iterator>
 #include <string>
 #include <thread>
 
@@ -14,6 +12,7 @@
 #include "scanhead/common/folder_lock.hpp"
 #include "scanhead/common/package_path.hpp"
 #include "scanhead/common/stop_request.hpp"
+#include "scanhead/common/text_file.hpp"
 #include "scanhead/study/study_cases.hpp"
 #include "scanhead/study/study_estimate.hpp"
 #include "scanhead/study/study_folder.hpp"
@@ -39,12 +38,6 @@ void installStopHandler()
   action.sa_flags = 0;
   for (const int s : {SIGINT, SIGTERM, SIGHUP})
     sigaction(s, &action, nullptr);
-}
-
-std::string readWhole(const std::string& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 struct Counts
@@ -158,7 +151,7 @@ int main(int argc, char** argv)
                          std::to_string(records.size()) + ")");
       if (records[index].state == CaseState::Done)
         return 0;  // a resubmitted array task: finished already
-      options.plots = readWhole((fs::path(dir) / "plots").string());
+      options.plots = readFileOrEmpty((fs::path(dir) / "plots").string());
       if (options.plots.empty())
         options.plots = "none";
       return runStudyCase(dir, records[index], options) ? 0 : 1;
@@ -183,7 +176,7 @@ int main(int argc, char** argv)
     options.progress_tty = ::isatty(STDERR_FILENO) != 0;
     // One study process on a folder at a time (Slurm tasks lock their cases' folders through scanhead_run).
     const FolderLock lock(out);
-    writeStudyPlan(out, readWhole(study_file), cases);
+    writeStudyPlan(out, spec.text, cases);
     writeFileWhole((fs::path(out) / "plots").string(), options.plots);
     const std::vector<CaseRecord> records = readStudyCases(out);
     std::vector<std::size_t> todo;
@@ -205,18 +198,16 @@ int main(int argc, char** argv)
               << (c.failed > 0 && !retry_failed ? " (kept; --retry-failed runs them again)" : "") << ", " << todo.size()
               << " to run (" << (backend == "local" ? "local, " + std::to_string(workers) + " at once" : backend)
               << ")\n";
+    const SlurmOptions slurm{fs::absolute(siblingExecutable("scanhead_study")).string(),
+                             max_running,
+                             cpus_per_task,
+                             partition,
+                             time_limit,
+                             wait};
     if (dry_run)
     {
       if (backend == "slurm")
-      {
-        SlurmOptions slurm{fs::absolute(siblingExecutable("scanhead_study")).string(),
-                           max_running,
-                           cpus_per_task,
-                           partition,
-                           time_limit,
-                           false};
         std::cout << slurmArrayScript(out, todo, slurm);
-      }
       else
         for (const std::size_t k : todo)
           std::cout << records[k].id << "\t" << records[k].job << "\n";
@@ -229,12 +220,6 @@ int main(int argc, char** argv)
         collect(out);
         return 0;
       }
-      SlurmOptions slurm{fs::absolute(siblingExecutable("scanhead_study")).string(),
-                         max_running,
-                         cpus_per_task,
-                         partition,
-                         time_limit,
-                         wait};
       submitSlurmStudy(out, todo, slurm);
       if (wait)
         collect(out);

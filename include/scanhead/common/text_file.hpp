@@ -11,6 +11,9 @@ namespace scanhead
 /// \throws InputError "<path>: cannot write (<strerror>)" if the file cannot be written
 void writeTextFile(const std::string& path, const std::string& text);
 
+/// \brief The whole content of \p path, or "" if it cannot be opened (a status or log file not written yet).
+std::string readFileOrEmpty(const std::string& path);
+
 /// \brief Writes \p size bytes at \p data to \p path (replacing the file), with POSIX calls so
 /// that every error is seen with its own errno (a full disk included).
 /// \throws InputError "<path>: cannot write (<strerror>)" if the file cannot be written

@@ -27,6 +27,9 @@ struct JobPlacement
   bool centred = false;                                ///< offset_m came from cam.centre
 
   bool identity() const { return rotation_deg == 0.0 && offset_m.isZero(); }
+  /// \brief Whether the job was placed at all (a centring that happened to move nothing counts): what job.yaml and
+  /// metrics.yaml record.
+  bool placed() const { return !identity() || centred; }
   /// \brief One YAML flow map: {rotation_deg: θ, offset_m: [x, y], centred: true|false}.
   std::string yaml() const;
 };

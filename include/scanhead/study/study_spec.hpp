@@ -41,6 +41,7 @@ struct StudyJobEntry
 struct StudySpec
 {
   std::string source;       ///< the study file
+  std::string text;         ///< its content as read (copied into the study folder)
   std::string config_path;  ///< base config, absolute; "" for the package's default
   std::vector<StudyJobEntry> jobs;
   std::vector<std::string> set;  ///< "key=value", in the file's order

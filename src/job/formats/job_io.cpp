@@ -238,7 +238,7 @@ std::string scanJobToYaml(const Job& job)
 {
   std::ostringstream out;
   out << "name: " << yamlDoubleQuoted(job.name) << "\n";
-  if (!job.placement.identity() || job.placement.centred)
+  if (job.placement.placed())
     out << "placement: " << job.placement.yaml() << "  # applied: field = R(rotation)·file + offset\n";
   out << "polylines:\n";
   for (const Polyline& line : job.polylines)

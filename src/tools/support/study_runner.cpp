@@ -12,13 +12,12 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <map>
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
 #include "scanhead/common/stop_request.hpp"
+#include "scanhead/common/text_file.hpp"
 #include "scanhead/study/study_estimate.hpp"
 
 namespace scanhead
@@ -72,8 +71,7 @@ bool finishCase(const std::string& dir, const CaseRecord& c, int status, double 
   std::string error;
   if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0 && published))
   {
-    std::ifstream in(caseLogPath(dir, c.id));
-    const std::string log((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string log = readFileOrEmpty(caseLogPath(dir, c.id));
     error = WIFSIGNALED(status) ? std::string("killed by signal ") + std::to_string(WTERMSIG(status)) + " (" +
                                       strsignal(WTERMSIG(status)) + ")"
                                 : errorLineOf(log);
