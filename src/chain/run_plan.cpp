@@ -478,6 +478,7 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
             : plan.machine_time_s;
     thermal = window_s / ts / kThermalSamplesPerSecond;
   }
+  plan.setup_wall_s = kSetupSeconds;
   plan.wall_time_s =
       kSetupSeconds + (config.stream.threads >= 2 ? std::max(producer, energy) : producer + energy) + thermal;
   return plan;

@@ -38,11 +38,10 @@ std::string jobFormatsHelp()
 
 namespace
 {
-/// \brief The job as the file gives it, layer \p layer for layered files (CLI, segment); \p layered: the file has
-/// layers (so that cam.centre must look at all of them).
-Job readJob(const std::string& argument, const CamConfig& cam, int layer, bool& layered)
+/// \brief The job as the file gives it, layer cam.layer of layered files (CLI, segment: the whole file surveyed in
+/// job.file, its bounding box rotated by cam.rotation_deg for cam.centre).
+Job readJob(const std::string& argument, const CamConfig& cam)
 {
-  layered = false;
   if (isBuiltinJobName(argument.substr(0, argument.find(':'))))
     return builtinJob(argument, cam.shape_file);
   if (endsWith(argument, ".yaml") || endsWith(argument, ".yml"))
@@ -56,9 +55,9 @@ Job readJob(const std::string& argument, const CamConfig& cam, int layer, bool& 
   const std::string head = firstBytes(argument, 4096);
   if (endsWith(argument, ".cli") || looksLikeCli(head))
   {
-    layered = true;
     CliReadOptions options;
-    options.layer = layer;
+    options.layer = cam.layer;
+    options.box_rotation_deg = cam.rotation_deg;
     options.mark_speed_mps = cam.mark_speed_mps;
     options.jump_speed_mps = cam.jump_speed_mps;
     options.mark_power_w = cam.mark_power_w;
@@ -66,11 +65,11 @@ Job readJob(const std::string& argument, const CamConfig& cam, int layer, bool& 
   }
   if (looksLikeSegmentPath(head))
   {
-    layered = true;
     SegmentReadOptions options;
+    options.box_rotation_deg = cam.rotation_deg;
     options.unit_m = cam.units == "mm" ? 1e-3 : 1.0;
     options.power_w = cam.mark_power_w;
-    options.layer = layer;
+    options.layer = cam.layer;
     options.power_column = cam.segment_power == "watts"         ? SegmentPower::Watts
                            : cam.segment_power == "coefficient" ? SegmentPower::Coefficient
                                                                 : SegmentPower::Auto;
@@ -82,14 +81,9 @@ Job readJob(const std::string& argument, const CamConfig& cam, int layer, bool& 
 
 Job loadJob(const std::string& argument, const CamConfig& cam)
 {
-  bool layered = false;
-  Job job = readJob(argument, cam, cam.layer, layered);
+  Job job = readJob(argument, cam);
   if (cam.centre || cam.rotation_deg != 0.0 || cam.offset_m[0] != 0.0 || cam.offset_m[1] != 0.0)
-  {
-    // cam.centre centres the whole file, so that the layers of a build keep their relative position.
-    const Job whole = cam.centre && layered && cam.layer >= 0 ? readJob(argument, cam, -1, layered) : Job();
-    placeJob(job, placementFor(cam, whole.polylines.empty() ? job : whole));
-  }
+    placeJob(job, placementFor(cam, job));  // cam.centre: the whole file's box, so a build's layers stay aligned
   return job;
 }
 }  // namespace scanhead

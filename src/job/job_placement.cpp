@@ -11,9 +11,7 @@
 
 namespace scanhead
 {
-namespace
-{
-Eigen::Matrix2d rotation(double degrees)
+Eigen::Matrix2d placementRotation(double degrees)
 {
   // Exact for the quarter turns a machine uses most (cos 90° is not 0 in floating point).
   const double turns = degrees / 90.0;
@@ -30,7 +28,6 @@ Eigen::Matrix2d rotation(double degrees)
   r << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
   return r;
 }
-}  // namespace
 
 std::string JobPlacement::yaml() const
 {
@@ -40,7 +37,7 @@ std::string JobPlacement::yaml() const
 
 bool rotatedBoundingBox(const Job& job, double rotation_deg, Eigen::Vector2d& lo, Eigen::Vector2d& hi)
 {
-  const Eigen::Matrix2d r = rotation(rotation_deg);
+  const Eigen::Matrix2d r = placementRotation(rotation_deg);
   bool any = false;
   for (const Polyline& line : job.polylines)
     for (const Eigen::Vector2d& p : line.points)
@@ -53,16 +50,17 @@ bool rotatedBoundingBox(const Job& job, double rotation_deg, Eigen::Vector2d& lo
   return any;
 }
 
-JobPlacement placementFor(const CamConfig& cam, const Job& whole)
+JobPlacement placementFor(const CamConfig& cam, const Job& job)
 {
   JobPlacement placement;
   placement.rotation_deg = cam.rotation_deg;
   placement.offset_m = Eigen::Vector2d(cam.offset_m[0], cam.offset_m[1]);
   if (cam.centre)
   {
-    Eigen::Vector2d lo, hi;
-    if (!rotatedBoundingBox(whole, cam.rotation_deg, lo, hi))
-      throw InputError(whole.source + ": cam.centre: the job has no point to centre");
+    Eigen::Vector2d lo = job.file.box_lo, hi = job.file.box_hi;
+    const bool surveyed = job.file.surveyed && job.file.box_rotation_deg == cam.rotation_deg;
+    if (!(surveyed ? job.file.has_points : rotatedBoundingBox(job, cam.rotation_deg, lo, hi)))
+      throw InputError(job.source + ": cam.centre: the job has no point to centre");
     placement.offset_m -= 0.5 * (lo + hi);
     placement.centred = true;
   }
@@ -76,7 +74,7 @@ void placeJob(Job& job, const JobPlacement& placement)
     job.placement.centred = job.placement.centred || placement.centred;
     return;  // the points bit for bit as read
   }
-  const Eigen::Matrix2d r = rotation(placement.rotation_deg);
+  const Eigen::Matrix2d r = placementRotation(placement.rotation_deg);
   for (Polyline& line : job.polylines)
     for (Eigen::Vector2d& p : line.points)
       p = r * p + placement.offset_m;

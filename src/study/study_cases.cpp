@@ -6,10 +6,10 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 #include "scanhead/chain/config_io.hpp"
 #include "scanhead/common/errors.hpp"
-#include "scanhead/common/text_file.hpp"
 #include "scanhead/job/generators/builtin_jobs.hpp"
 #include "scanhead/job/job_files.hpp"
 
@@ -109,6 +109,21 @@ std::uint64_t fnv1a(const std::string& text, std::uint64_t hash)
   return hash;
 }
 
+std::uint64_t fileFnv1a(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t hash = fnv1a("");
+  std::string block(1 << 20, '\0');  // 1 MiB at a time: a build file of any size hashes in bounded memory
+  while (in)
+  {
+    in.read(&block[0], static_cast<std::streamsize>(block.size()));
+    block.resize(static_cast<std::size_t>(in.gcount()));
+    hash = fnv1a(block, hash);
+    block.resize(1 << 20);
+  }
+  return hash;
+}
+
 std::vector<StudyCase> planStudyCases(const StudySpec& spec, const std::string& config_path,
                                       const std::vector<std::string>& extra_sets)
 {
@@ -168,7 +183,7 @@ std::vector<StudyCase> planStudyCases(const StudySpec& spec, const std::string& 
     const std::vector<std::string> files = builtin ? std::vector<std::string>{entry.text} : jobFiles(entry, spec, j);
     for (const std::string& job : files)
     {
-      const std::string content = builtin ? std::string() : readFileOrEmpty(job);
+      const std::uint64_t content = builtin ? fnv1a("") : fileFnv1a(job);  // once per file, not per case
       // One case per layer of a layered file (unless the study sets cam.layer itself).
       std::size_t layers = 1;
       bool layered = false;
@@ -179,8 +194,8 @@ std::vector<StudyCase> planStudyCases(const StudySpec& spec, const std::string& 
           CamConfig cam = combos.front().config.cam;
           cam.layer = 0;
           const Job first = loadJob(job, cam);
-          layered = first.file_layers > 1;
-          layers = first.file_layers;
+          layered = first.file.layers > 1;
+          layers = first.file.layers;
         }
         catch (const std::exception&)
         {
@@ -208,8 +223,7 @@ std::vector<StudyCase> planStudyCases(const StudySpec& spec, const std::string& 
           }
           for (const auto& [key, value] : c.grid)
             name += "_" + slug(key.substr(key.rfind('.') + 1), 24) + "-" + slug(value, 24);
-          const std::uint64_t hash =
-              fnv1a(c.config_yaml, fnv1a(content, fnv1a(job + "\n" + std::to_string(c.layer) + "\n")));
+          const std::uint64_t hash = fnv1a(c.config_yaml, fnv1a(job + "\n" + std::to_string(c.layer) + "\n", content));
           c.id = name + "_" + hex(hash, 12);
           cases.push_back(std::move(c));
         }

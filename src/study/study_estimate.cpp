@@ -24,27 +24,30 @@ std::string durationText(double seconds)
 StudyEstimate estimateStudy(const std::vector<StudyCase>& cases, const std::vector<std::size_t>& todo)
 {
   StudyEstimate estimate;
-  struct PerCase
+  struct PerJob
   {
-    double machine_s = 0.0, wall_s = 0.0;
+    double machine_s = 0.0, wall_s = 0.0, program_s = 0.0, setup_s = 0.0;  ///< its run plan's
+    std::vector<double> layer_path_s;  ///< a layered file: every layer's path time (its survey)
     bool ok = false;
   };
-  std::map<std::string, PerCase> per_job;  // one plan per job (file or spec), with the first case's settings
+  std::map<std::string, PerJob> per_job;  // one plan per job (file or spec), with the first case's settings
   for (const std::size_t k : todo)
   {
     const StudyCase& c = cases[k];
     auto it = per_job.find(c.job);
     if (it == per_job.end())
     {
-      PerCase p;
+      PerJob p;
       try
       {
+        // A layered file: its first layer is planned, the others from their path time (the reader's survey), so a
+        // build of any size costs one layer's memory here.
         ChainConfig config = chainConfigFromFlat(flattenYaml(c.config_yaml, c.id));
-        config.cam.layer = c.layer >= 0 ? -1 : config.cam.layer;  // a layered file: all its layers at once
+        config.cam.layer = c.layer >= 0 ? 0 : config.cam.layer;
         const Job job = loadJob(c.job, config.cam);
         const RunPlan plan = planRun(config, job, loadOpticalModel(config.optics));
-        const double share = c.layer >= 0 ? 1.0 / static_cast<double>(std::max<std::size_t>(1, job.file_layers)) : 1.0;
-        p = {plan.machine_time_s * share, plan.wall_time_s * share, true};
+        p = {plan.machine_time_s, plan.wall_time_s,      plan.program_duration_s,
+             plan.setup_wall_s,   job.file.layer_path_s, true};
       }
       catch (const std::exception&)
       {
@@ -52,10 +55,22 @@ StudyEstimate estimateStudy(const std::vector<StudyCase>& cases, const std::vect
       }
       it = per_job.emplace(c.job, p).first;
     }
-    if (!it->second.ok)
+    const PerJob& p = it->second;
+    if (!p.ok)
+    {
       ++estimate.unplanned;
-    estimate.machine_time_s += it->second.machine_s;
-    estimate.wall_time_s += it->second.wall_s;
+      continue;
+    }
+    // Layer k: the NC program lasts the first layer's times the path-time ratio (accelerations and holds in the
+    // same proportion); the filter delay and tail are the same; the wall time is the fixed setup plus the
+    // per-sample part, in proportion to the machine time.
+    const std::size_t layer = static_cast<std::size_t>(std::max(0, c.layer));
+    const double ratio = c.layer >= 0 && layer < p.layer_path_s.size() && p.layer_path_s[0] > 0.0
+                             ? p.layer_path_s[layer] / p.layer_path_s[0]
+                             : 1.0;
+    const double machine_s = p.machine_s + p.program_s * (ratio - 1.0);
+    estimate.machine_time_s += machine_s;
+    estimate.wall_time_s += p.setup_s + (p.wall_s - p.setup_s) * (p.machine_s > 0.0 ? machine_s / p.machine_s : 1.0);
   }
   return estimate;
 }

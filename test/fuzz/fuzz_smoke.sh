@@ -33,8 +33,10 @@ ALL_TARGETS=(cli segment yaml_job config defect_set correction_table polygon)
 sources_for() {
   local s="$ROOT/src"
   case "$1" in
-    cli) echo "$s"/job/formats/cli_*.cpp "$s/common/config_check.cpp" "$s/common/number_text.cpp" ;;
-    segment) echo "$s/job/formats/segment_path.cpp" "$s/common/config_check.cpp" "$s/common/number_text.cpp" ;;
+    cli) echo "$s"/job/formats/cli_*.cpp "$s/job/file_survey.cpp" "$s/job/job_placement.cpp" \
+      "$s/common/config_check.cpp" "$s/common/number_text.cpp" ;;
+    segment) echo "$s/job/formats/segment_path.cpp" "$s/job/file_survey.cpp" "$s/job/job_placement.cpp" \
+      "$s/common/config_check.cpp" "$s/common/number_text.cpp" ;;
     yaml_job) echo "$s/job/formats/job_io.cpp" "$s/job/job_placement.cpp" "$s/common/yaml_document.cpp" \
       "$s/common/number_text.cpp" ;;
     config)  # config_io and every validate() it calls

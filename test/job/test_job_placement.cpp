@@ -222,6 +222,50 @@ TEST(JobPlacement, SegmentLayersByZ)
   EXPECT_NE(error.find("cam.layer: the file has 2 layer(s)"), std::string::npos) << error;
 }
 
+// The readers survey the whole file while they keep one layer (file_survey.hpp): every layer read alone reports the
+// layer count, the bounding box of the file read whole (bit for bit, after cam.rotation_deg) and each layer's path
+// time Σ length / speed + dwell, computed here again from the whole file's polylines.
+TEST(JobPlacement, SurveyOfTheWholeFile)
+{
+  const std::string segment = writeFile("survey_layers.txt", plateLayer(2.5, 2.55));
+  const std::string cli = std::string(SCANHEAD_SOURCE_DIR) + "/test/data/cli/cli_full.cli";
+  for (const std::string& path : {segment, cli})
+  {
+    CamConfig cam = plateCam();
+    cam.layer = -1;
+    const Job whole = loadJob(path, cam);
+    Eigen::Vector2d lo, hi;
+    ASSERT_TRUE(scanhead::rotatedBoundingBox(whole, 30.0, lo, hi)) << path;
+    double path_s = 0.0;
+    for (const auto& line : whole.polylines)
+    {
+      path_s += line.dwell_s;
+      for (std::size_t k = 1; k < line.points.size(); ++k)
+        path_s += (line.points[k] - line.points[k - 1]).norm() / line.speed_mps;
+    }
+    ASSERT_EQ(whole.file.layers, 2u) << path;
+    for (int layer = 0; layer < 2; ++layer)
+    {
+      cam.rotation_deg = 30.0;
+      cam.layer = layer;
+      const Job one = loadJob(path, cam);
+      EXPECT_TRUE(one.file.surveyed);
+      EXPECT_EQ(one.file.layers, 2u);
+      EXPECT_EQ(one.file.box_lo, lo) << path;
+      EXPECT_EQ(one.file.box_hi, hi) << path;
+      ASSERT_EQ(one.file.layer_path_s.size(), 2u);
+      EXPECT_NEAR(one.file.layer_path_s[0] + one.file.layer_path_s[1], path_s, 1e-15) << path;
+    }
+  }
+  // The plate layers by hand: two 4 mm marks at 0.8 m/s and a 0.1 mm jump at 2 m/s each.
+  CamConfig cam = plateCam();
+  const Job first = loadJob(segment, cam);
+  EXPECT_NEAR(first.file.layer_path_s[0], 2 * 0.004 / 0.8 + 0.0001 / 2.0, 1e-15);
+  EXPECT_NEAR(first.file.layer_path_s[1], 2 * 0.004 / 0.8 + 0.0001 / 2.0, 1e-15);
+  // A built-in job is its own whole: not surveyed, cam.centre uses its points.
+  EXPECT_FALSE(loadJob("corner", CamConfig()).file.surveyed);
+}
+
 // cam.offset_m is a list in the config file and after --set; it round-trips through the written config; bad values
 // name the key.
 TEST(JobPlacement, OffsetSetting)

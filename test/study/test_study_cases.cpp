@@ -8,8 +8,13 @@
 #include <set>
 #include <string>
 
+#include "scanhead/chain/config_io.hpp"
+#include "scanhead/chain/run_plan.hpp"
 #include "scanhead/common/errors.hpp"
+#include "scanhead/job/job_files.hpp"
+#include "scanhead/optics/optics_loading.hpp"
 #include "scanhead/study/study_cases.hpp"
+#include "scanhead/study/study_estimate.hpp"
 #include "scanhead/study/study_folder.hpp"
 #include "scanhead/study/study_spec.hpp"
 
@@ -90,6 +95,40 @@ TEST(StudyCases, CliLayers)
   ASSERT_EQ(cases.size(), 2u);
   EXPECT_EQ(cases[1].layer, 1);
   EXPECT_EQ(cases[1].id.rfind("cli_full_layer0001_", 0), 0u) << cases[1].id;
+}
+
+// The estimate before a study plans a layered file's first layer only and scales the others by their path time (the
+// reader's survey): three layers of 4, 8 and 16 hatch lines, each estimated within 5 % of its own run plan.
+TEST(StudyCases, EstimateScalesLayersByPathTime)
+{
+  std::string text = "Mode x y z pmod param\n";
+  int layer = 0;
+  for (const int lines : {4, 8, 16})
+  {
+    const std::string z = std::to_string(1e-4 * layer++);
+    text += "1 0 0 " + z + " 0 0\n";
+    for (int k = 0; k < lines; ++k)
+    {
+      const std::string y = std::to_string(1e-4 * k), x0 = k % 2 ? "0.004" : "0", x1 = k % 2 ? "0" : "0.004";
+      text += "0 " + x0 + " " + y + " " + z + " 0 4.5\n0 " + x1 + " " + y + " " + z + " 1 1\n";
+    }
+  }
+  write("three_layers.txt", text);
+  const auto cases = plan("jobs: [three_layers.txt]\n");
+  ASSERT_EQ(cases.size(), 3u);
+  double total_s = 0.0;
+  for (std::size_t k = 0; k < cases.size(); ++k)
+  {
+    const scanhead::StudyEstimate one = scanhead::estimateStudy(cases, {k});
+    scanhead::ChainConfig config = scanhead::loadChainConfig(kConfig, {});
+    config.cam.layer = static_cast<int>(k);
+    const scanhead::Job job = scanhead::loadJob(cases[k].job, config.cam);
+    const scanhead::RunPlan own = scanhead::planRun(config, job, scanhead::loadOpticalModel(config.optics));
+    EXPECT_NEAR(one.machine_time_s, own.machine_time_s, 0.05 * own.machine_time_s) << "layer " << k;
+    EXPECT_NEAR(one.wall_time_s, own.wall_time_s, 0.05 * own.wall_time_s) << "layer " << k;
+    total_s += one.machine_time_s;
+  }
+  EXPECT_NEAR(scanhead::estimateStudy(cases, {0, 1, 2}).machine_time_s, total_s, 1e-12);
 }
 
 // The identity: the same study plans the same ids; a setting, the job file's content or an extra --set changes them.

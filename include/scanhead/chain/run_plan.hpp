@@ -133,6 +133,7 @@ struct RunPlan
   double controller_steps_per_sample = 1.0;  ///< cascade servo: controller periods a sample
   MemoryEstimate memory;                     ///< estimated peak [bytes]
   double wall_time_s = 0.0;                  ///< estimated wall time of the chain (an estimate: ×0.5..2) [s]
+  double setup_wall_s = 0.0;                 ///< of which the fixed part, whatever the job's length [s]
   SpeedBounds speeds;                        ///< the galvos' bounds used for the checks
   std::vector<std::string> warnings;         ///< questionable but possible values, one sentence each
 };

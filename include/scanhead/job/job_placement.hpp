@@ -34,13 +34,17 @@ struct JobPlacement
   std::string yaml() const;
 };
 
+/// \brief R(\p degrees) (exact for multiples of 90°).
+Eigen::Matrix2d placementRotation(double degrees);
+
 /// \brief Bounding box of every point of \p job (marks, jumps, dwells), after the rotation by \p rotation_deg.
 /// \returns false for a job without points
 bool rotatedBoundingBox(const Job& job, double rotation_deg, Eigen::Vector2d& lo, Eigen::Vector2d& hi);
 
-/// \brief The placement the cam settings ask for; \p whole: the job whose bounding box cam.centre uses (the
-/// whole file). \throws InputError if cam.centre is set and \p whole has no point.
-JobPlacement placementFor(const CamConfig& cam, const Job& whole);
+/// \brief The placement the cam settings ask for \p job; cam.centre uses the bounding box of the whole file the
+/// job was read from (job.file, surveyed by the layered-file readers), else that of \p job.
+/// \throws InputError if cam.centre is set and the file has no point.
+JobPlacement placementFor(const CamConfig& cam, const Job& job);
 
 /// \brief Moves every point of \p job by \p placement and composes it with the job's own (job.placement).
 void placeJob(Job& job, const JobPlacement& placement);

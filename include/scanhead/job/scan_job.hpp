@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "scanhead/job/file_survey.hpp"
 #include "scanhead/job/job_placement.hpp"
 
 namespace scanhead
@@ -41,7 +42,7 @@ struct Job
   std::string source;  ///< where it came from (file path or built-in description)
   std::vector<Polyline> polylines;
   JobPlacement placement;  ///< how the file's points were moved onto the field (identity: as read)
-  std::size_t file_layers = 1;  ///< layers of the file it was read from (CLI, segment files; others: 1)
+  FileSurvey file;  ///< the file it was read from, every layer (CLI, segment files; others: 1 layer, not surveyed)
 };
 
 /// \brief A direction change inside a MARK polyline (vertex i of polyline p).

@@ -14,8 +14,9 @@ namespace scanhead
 {
 struct StudyCase
 {
-  std::string id;     ///< folder name: <job>[_layerK][_<key>-<value>…]_<hash>, the hash of job + settings
-  std::string job;    ///< scanhead_run --job (a file's absolute path, or a built-in spec)
+  std::string id;   ///< folder name: <job>[_layerK][_<key>-<value>…]_<hash>, the hash of the job file's content, job,
+                    ///< layer and settings
+  std::string job;  ///< scanhead_run --job (a file's absolute path, or a built-in spec)
   std::string label;  ///< the job as a person reads it: the file name or the spec
   int layer = -1;     ///< the layer of a layered file (cam.layer), -1: the job is not split by layer
   std::vector<std::pair<std::string, std::string>> grid;  ///< this case's grid values, in the grid's order
@@ -32,4 +33,7 @@ std::vector<StudyCase> planStudyCases(const StudySpec& spec, const std::string& 
 
 /// \brief 64-bit FNV-1a of \p text continued from \p hash (the case identity; stable across machines).
 std::uint64_t fnv1a(const std::string& text, std::uint64_t hash = 14695981039346656037ull);
+
+/// \brief fnv1a() of the bytes of the file \p path, read 1 MiB at a time (of "" if it cannot be read).
+std::uint64_t fileFnv1a(const std::string& path);
 }  // namespace scanhead

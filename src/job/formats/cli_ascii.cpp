@@ -198,19 +198,15 @@ private:
     if (dir < 0.0 || dir > 2.0)
       fail("expected dir 0 (clockwise), 1 (counter-clockwise) or 2 (open), got " + toCharsText(dir));
     const std::size_t n = count(Field{"point count n"}, 2);
-    const bool keep = b_.active();
-    if (keep)
-      b_.beginMark(n, PolylineRole::Contour);
+    b_.beginMark(n, PolylineRole::Contour);
     for (std::size_t i = 1; i <= n; ++i)
     {
       const double x = number(Field{"x of point", i, n});
       const double y = number(Field{"y of point", i, n});
-      if (keep)
-        b_.addPoint(x, y);
+      b_.addPoint(x, y);
     }
     endParameters();
-    if (keep)
-      b_.endMark();
+    b_.endMark();
   }
 
   void hatches(std::size_t line)
@@ -219,20 +215,16 @@ private:
     beginParameters();
     integer(Field{"id"});
     const std::size_t n = count(Field{"hatch count n"}, 4);
-    const bool keep = b_.active();
     for (std::size_t i = 1; i <= n; ++i)
     {
       const double xs = number(Field{"start x of hatch", i, n});
       const double ys = number(Field{"start y of hatch", i, n});
       const double xe = number(Field{"end x of hatch", i, n});
       const double ye = number(Field{"end y of hatch", i, n});
-      if (keep)
-      {
-        b_.beginMark(2, PolylineRole::Hatch);
-        b_.addPoint(xs, ys);
-        b_.addPoint(xe, ye);
-        b_.endMark();
-      }
+      b_.beginMark(2, PolylineRole::Hatch);
+      b_.addPoint(xs, ys);
+      b_.addPoint(xe, ye);
+      b_.endMark();
     }
     endParameters();
   }

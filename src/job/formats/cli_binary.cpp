@@ -166,18 +166,14 @@ private:
     const std::size_t n_at = pos_;
     const std::uint16_t n = uintParam();
     needItems(n_at, n, 4, "points of 'polyline short'");
-    const bool keep = b_.active();
-    if (keep)
-      b_.beginMark(n, PolylineRole::Contour);
+    b_.beginMark(n, PolylineRole::Contour);
     for (std::uint16_t i = 0; i < n; ++i)
     {
       const double x = u16();
       const double y = u16();
-      if (keep)
-        b_.addPoint(x, y);
+      b_.addPoint(x, y);
     }
-    if (keep)
-      b_.endMark();
+    b_.endMark();
   }
 
   void polylineLong(std::size_t at)
@@ -190,18 +186,14 @@ private:
     const std::size_t n_at = pos_;
     const std::int32_t n = i32();
     needItems(n_at, n, 8, "points of 'polyline long'");
-    const bool keep = b_.active();
-    if (keep)
-      b_.beginMark(static_cast<std::size_t>(n), PolylineRole::Contour);
+    b_.beginMark(static_cast<std::size_t>(n), PolylineRole::Contour);
     for (std::int32_t i = 0; i < n; ++i)
     {
       const double x = real("x of a 'polyline long' point");
       const double y = real("y of a 'polyline long' point");
-      if (keep)
-        b_.addPoint(x, y);
+      b_.addPoint(x, y);
     }
-    if (keep)
-      b_.endMark();
+    b_.endMark();
   }
 
   void hatchesShort(std::size_t at)
@@ -212,15 +204,13 @@ private:
     const std::size_t n_at = pos_;
     const std::uint16_t n = uintParam();
     needItems(n_at, n, 8, "hatches of 'hatches short'");
-    const bool keep = b_.active();
     for (std::uint16_t i = 0; i < n; ++i)
     {
       const double xs = u16();
       const double ys = u16();
       const double xe = u16();
       const double ye = u16();
-      if (keep)
-        hatch(xs, ys, xe, ye);
+      hatch(xs, ys, xe, ye);
     }
   }
 
@@ -232,15 +222,13 @@ private:
     const std::size_t n_at = pos_;
     const std::int32_t n = i32();
     needItems(n_at, n, 16, "hatches of 'hatches long'");
-    const bool keep = b_.active();
     for (std::int32_t i = 0; i < n; ++i)
     {
       const double xs = real("start x of a hatch");
       const double ys = real("start y of a hatch");
       const double xe = real("end x of a hatch");
       const double ye = real("end y of a hatch");
-      if (keep)
-        hatch(xs, ys, xe, ye);
+      hatch(xs, ys, xe, ye);
     }
   }
 

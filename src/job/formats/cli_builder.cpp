@@ -14,6 +14,7 @@ JobBuilder::JobBuilder(const CliReadOptions& options, double m_per_unit)
   , power_w_(options.mark_power_w)
   , jump_speed_mps_(options.jump_speed_mps)
 {
+  job_.file.begin(options.box_rotation_deg);
 }
 
 void JobBuilder::beginMark(std::size_t n_points, PolylineRole role)
@@ -31,6 +32,21 @@ void JobBuilder::endMark()
   if (current_.points.size() < 2)
     return;  // a point or nothing: no path to mark
   const Eigen::Vector2d start = current_.points.front();
+  // The survey sees the file as read with every layer (cam.layer = -1): jumps join the layers too.
+  const std::size_t layer = static_cast<std::size_t>(layers_ - 1);
+  if (has_surveyed_ && start != surveyed_end_)
+  {
+    Polyline jump;
+    jump.type = PolylineType::Jump;
+    jump.speed_mps = jump_speed_mps_;
+    jump.points = {surveyed_end_, start};
+    job_.file.add(layer, jump);
+  }
+  job_.file.add(layer, current_);
+  surveyed_end_ = current_.points.back();
+  has_surveyed_ = true;
+  if (!active_)
+    return;
   if (has_last_ && start != last_end_)
   {
     Polyline jump;
@@ -68,7 +84,7 @@ Job JobBuilder::finish(const std::string& source, long declared_layers)
     name += "_layer" + std::to_string(want_);
   job_.name = name;
   job_.source = source;
-  job_.file_layers = static_cast<std::size_t>(layers_);
+  job_.file.finish(static_cast<std::size_t>(layers_));
   return std::move(job_);
 }
 }  // namespace cli

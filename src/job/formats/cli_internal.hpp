@@ -37,7 +37,7 @@ public:
     active_ = want_ < 0 || want_ == layers_ - 1;
   }
   bool inLayer() const { return layers_ > 0; }
-  /// \brief Whether the current layer is kept (geometry of other layers is checked, not stored).
+  /// \brief Whether the current layer is kept (geometry of other layers is checked and surveyed, not stored).
   bool active() const { return active_; }
   int layers() const { return layers_; }
 
@@ -50,8 +50,8 @@ public:
   {
     current_.points.emplace_back(x_units * m_per_unit_, y_units * m_per_unit_);
   }
-  /// \brief Stores the mark (dropped if < 2 points), preceded by a jump if it does not start
-  /// where the previous mark ended.
+  /// \brief Surveys the mark (every layer: Job::file) and, in the kept layer, stores it (dropped if < 2
+  /// points), preceded by a jump if it does not start where the previous stored mark ended.
   void endMark();
 
   /// \brief The job. \throws InputError if the requested layer is not in the file
@@ -60,8 +60,10 @@ public:
 private:
   Job job_;
   Polyline current_;
-  Eigen::Vector2d last_end_ = Eigen::Vector2d::Zero();
+  Eigen::Vector2d last_end_ = Eigen::Vector2d::Zero();  ///< end of the last stored mark
   bool has_last_ = false;
+  Eigen::Vector2d surveyed_end_ = Eigen::Vector2d::Zero();  ///< end of the last mark of any layer
+  bool has_surveyed_ = false;
   int want_ = 0;
   int layers_ = 0;
   bool active_ = false;

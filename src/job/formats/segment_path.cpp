@@ -177,6 +177,7 @@ public:
   {
     job_.name = stemOf(source);
     job_.source = source;
+    job_.file.begin(options.box_rotation_deg);
   }
 
   /// Parses one row (already known non-blank).
@@ -248,7 +249,7 @@ public:
     const double scale_w = watts ? 1.0 : options_.power_w;
     for (Polyline& poly : job_.polylines)
       poly.power_w *= scale_w;
-    job_.file_layers = layers();
+    job_.file.finish(layers());
     if (options_.layer >= 0 && layers() > 1)
       job_.name += "_layer" + std::to_string(options_.layer);  // as CLI names a selected layer
     return std::move(job_);
@@ -267,6 +268,13 @@ private:
     merging_ = false;
     has_point_ = true;
     current_ = point;
+    // The survey sees the polylines of the file read whole (cam.layer = -1).
+    if (dwell_s > 0.0 && (coefficient > 0.0 || surveyed_any_))
+    {
+      job_.file.addPoint(point);
+      job_.file.addTime(layer_, dwell_s);
+      surveyed_any_ = true;
+    }
     if (!(dwell_s > 0.0) || !selected)
       return;  // only goes there
     if (!(coefficient > 0.0) && job_.polylines.empty())
@@ -285,6 +293,10 @@ private:
       fail(line, "mode", "the first row must be a spot (mode 1): a line (mode 0) needs a start point");
     if (!(speed_mps > 0.0))
       fail(line, "param", "a line's speed must be > 0 m/s (got " + shortestText(speed_mps, 15) + ")");
+    job_.file.addPoint(current_);
+    job_.file.addPoint(point);
+    job_.file.addTime(layer_, (point - current_).norm() / speed_mps);
+    surveyed_any_ = true;
     if (!selected)
     {
       merging_ = false;
@@ -326,7 +338,8 @@ private:
   std::string word_;
   Eigen::Vector2d current_ = Eigen::Vector2d::Zero();
   bool has_point_ = false;
-  bool merging_ = false;  ///< the last polyline is a line the next mode-0 row may extend
+  bool merging_ = false;       ///< the last polyline is a line the next mode-0 row may extend
+  bool surveyed_any_ = false;  ///< the file read whole would have a polyline by now
   std::size_t rows_ = 0;
 };
 }  // namespace

@@ -44,10 +44,11 @@ namespace scanhead
 /// \brief How a CLI file becomes a Job.
 struct CliReadOptions
 {
-  int layer = 0;                ///< layer index in file order (not z); -1: all layers, in order
-  double mark_speed_mps = 1.0;  ///< mark speed [m/s] until a $$SPEED line
-  double jump_speed_mps = 4.5;  ///< speed of the explicit jumps inserted between marks [m/s]
-  double mark_power_w = 200.0;  ///< mark power [W] until a $$POWER line
+  int layer = 0;                  ///< layer index in file order (not z); -1: all layers, in order
+  double mark_speed_mps = 1.0;    ///< mark speed [m/s] until a $$SPEED line
+  double jump_speed_mps = 4.5;    ///< speed of the explicit jumps inserted between marks [m/s]
+  double mark_power_w = 200.0;    ///< mark power [W] until a $$POWER line
+  double box_rotation_deg = 0.0;  ///< the frame of the whole file's bounding box in Job::file (cam.rotation_deg)
 
   /// \brief \throws ConfigError naming cam.layer, cam.mark_speed_mps, ... and the value
   void validate() const;
@@ -59,7 +60,8 @@ struct CliReadOptions
 /// polylines of fewer than 2 points are dropped), each hatch a 2-point MARK. Between two
 /// consecutive marks whose end and start differ, a JUMP at \p options.jump_speed_mps is inserted.
 /// Coordinates: \f[ x_m = x_{units} \cdot u_{mm} \cdot 10^{-3} \f]
-/// The whole file is checked, whatever layer is selected; no memory is reserved for a count
+/// The whole file is checked and surveyed (Job::file: layers, bounding box, path time per layer),
+/// whatever layer is selected; only that layer's polylines are kept. No memory is reserved for a count
 /// before checking that the rest of the input can hold it.
 /// \param[in] bytes  the whole file
 /// \param[in] source file name used in messages and for the job name

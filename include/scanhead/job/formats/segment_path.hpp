@@ -29,7 +29,8 @@
 ///
 /// Layers: z changes between consecutive rows start a new layer (layer k = 0, 1, ... in file
 /// order, as adamantine's multi-layer files and CLI's $$LAYER); SegmentReadOptions::layer picks one
-/// (-1: all, in order). Rows of the other layers are checked all the same, and they still move
+/// (-1: all, in order). Rows of the other layers are checked and surveyed all the same (Job::file:
+/// layers, bounding box, path time per layer), and they still move
 /// the current point (a layer that starts with a line starts where the previous row ended).
 ///
 /// Mapping to the job (work-plane frame, SI):
@@ -74,7 +75,8 @@ struct SegmentReadOptions
   double power_w = 200.0;    ///< nominal power [W]: a row's power = coefficient × this; finite, >= 0
   bool exact_count = false;  ///< true: the header's count must equal the number of rows
   SegmentPower power_column = SegmentPower::Auto;
-  int layer = -1;  ///< layer to read (z changes start a new one), in file order; -1: all
+  int layer = -1;                 ///< layer to read (z changes start a new one), in file order; -1: all
+  double box_rotation_deg = 0.0;  ///< the frame of the whole file's bounding box in Job::file (cam.rotation_deg)
 
   /// \brief \throws ConfigError naming segment.unit_m or segment.power_w and the value
   void validate() const;
