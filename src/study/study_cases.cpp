@@ -223,7 +223,12 @@ std::vector<StudyCase> planStudyCases(const StudySpec& spec, const std::string& 
           }
           for (const auto& [key, value] : c.grid)
             name += "_" + slug(key.substr(key.rfind('.') + 1), 24) + "-" + slug(value, 24);
-          const std::uint64_t hash = fnv1a(c.config_yaml, fnv1a(job + "\n" + std::to_string(c.layer) + "\n", content));
+          // stream.threads is left out: any thread count gives bit-identical results, and the local backend
+          // chooses it per case.
+          ChainConfig identity = config;
+          identity.stream.threads = 1;
+          const std::uint64_t hash =
+              fnv1a(chainConfigToYaml(identity), fnv1a(job + "\n" + std::to_string(c.layer) + "\n", content));
           c.id = name + "_" + hex(hash, 12);
           cases.push_back(std::move(c));
         }

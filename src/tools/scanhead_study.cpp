@@ -7,7 +7,6 @@
 #include <string>
 #include <thread>
 
-#include "scanhead/chain/config_io.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/folder_lock.hpp"
 #include "scanhead/common/package_path.hpp"
@@ -82,7 +81,7 @@ int main(int argc, char** argv)
     app.require_subcommand(1);
 
     std::string study_file, out, backend = "local", plots, partition, time_limit;
-    unsigned workers = 0;  // 0: the cores / the chain's threads
+    unsigned workers = 0;  // 0: the cores
     unsigned max_running = 0, cpus_per_task = 2;
     bool retry_failed = false, dry_run = false, wait = false;
     std::string config_path;
@@ -93,8 +92,8 @@ int main(int argc, char** argv)
     run->add_option("--backend", backend, "local (default: worker processes here) or slurm (one job array)")
         ->check(CLI::IsMember({"local", "slurm"}));
     run->add_option("--workers", workers,
-                    "local: cases at once (default: the cores / stream.threads, 1 on 2 cores with the default 2 "
-                    "threads; --workers 2 --set stream.threads=1 runs two one-thread cases, the same results)")
+                    "local: cases at once (default: the cores); while cases wait each runs on one thread, the last "
+                    "ones on stream.threads (the same results)")
         ->transform(check::integerAtLeast(1));
     run->add_option("--set", overrides, "a setting of every case, after the study's set: and grid (repeatable)")
         ->type_name("KEY=VALUE")
@@ -165,13 +164,7 @@ int main(int argc, char** argv)
     const std::vector<StudyCase> cases = planStudyCases(spec, base, overrides);
     options.plots = plots.empty() ? spec.plots : plots;
     if (workers == 0)
-    {
-      // The chain of one case already runs on stream.threads cores: more cases than cores / threads only compete.
-      std::vector<std::string> first = spec.set;
-      first.insert(first.end(), overrides.begin(), overrides.end());
-      const unsigned threads = static_cast<unsigned>(loadChainConfig(base, first).stream.threads);
-      workers = std::max(1u, std::thread::hardware_concurrency() / std::max(1u, threads));
-    }
+      workers = std::max(1u, std::thread::hardware_concurrency());
     options.workers = workers;
     options.progress_tty = ::isatty(STDERR_FILENO) != 0;
     // One study process on a folder at a time (Slurm tasks lock their cases' folders through scanhead_run).

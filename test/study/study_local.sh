@@ -70,6 +70,13 @@ same_results direct "$case_dir"
 grep -q "placement: {rotation_deg: 0, offset_m: \[-0.19925" "$case_dir/metrics.yaml" \
   || fail "the whole file's centre is not the placement: $(grep placement "$case_dir/metrics.yaml")"
 
+# Threads: with 2 workers a case started while others wait runs on one thread, the last on stream.threads (2).
+printf 'jobs: [corner]\ngrid: {nc.fir_t1_s: [2.0e-4, 2.6e-4, 3.0e-4]}\n' > threads.yaml
+"$STUDY" run threads.yaml --out threads --workers 2 > threads.out 2>&1 || fail "threads study: $(cat threads.out)"
+[ "$(grep -l "^  threads: 1$" threads/cases/*/config.yaml | wc -l)" -eq 2 ] \
+  && grep -q "^  threads: 2$" threads/cases/*fir_t1_s-3.0e-4*/config.yaml \
+  || fail "thread counts: $(grep -H "^  threads:" threads/cases/*/config.yaml)"
+
 # Re-run: finished cases skipped, failures kept unless --retry-failed.
 if "$STUDY" run study.yaml --out out > run2.out 2>&1; then fail "exit 0 with failed cases"; fi
 grep -q "6 cases: 4 done, 2 failed (kept; --retry-failed runs them again), 0 to run" run2.out || fail "$(cat run2.out)"

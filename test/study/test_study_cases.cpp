@@ -141,6 +141,8 @@ TEST(StudyCases, IdentityFollowsJobAndSettings)
   EXPECT_EQ(a[0].id, b[0].id);
   EXPECT_NE(plan(study, {"nc.fir_t1_s=3e-4"})[0].id, a[0].id);
   EXPECT_NE(plan("jobs: [two_layers.txt]\nset: {cam.mark_power_w: 150}\n")[0].id, a[0].id);
+  // The thread count changes no result: the same case (the local backend chooses it per case).
+  EXPECT_EQ(plan(study, {"stream.threads=1"})[0].id, a[0].id);
   write("two_layers.txt", std::string(kTwoLayers) + "0 0.003 0.001 1e-4 1 1\n");
   EXPECT_NE(plan(study)[1].id, a[1].id);
   // cam.layer set by the study: no split, the layer it names.

@@ -27,13 +27,16 @@ namespace
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-/// \brief Starts scanhead_run for \p c, its stdout and stderr into the case's log. \return its pid
-pid_t startCase(const std::string& dir, const CaseRecord& c, const StudyRunOptions& options)
+/// \brief Starts scanhead_run for \p c, its stdout and stderr into the case's log; \p one_thread: with
+/// stream.threads=1 instead of the case's own. \return its pid
+pid_t startCase(const std::string& dir, const CaseRecord& c, const StudyRunOptions& options, bool one_thread = false)
 {
   const std::string log = caseLogPath(dir, c.id);
   std::vector<std::string> words = {
       options.scanhead_run,      "--job",   c.job,         "--config", caseConfigPath(dir, c.id), "--out",
       caseResultsDir(dir, c.id), "--plots", options.plots, "--quiet"};
+  if (one_thread)
+    words.insert(words.end(), {"--set", "stream.threads=1"});
   std::vector<char*> argv;
   for (std::string& w : words)
     argv.push_back(w.data());
@@ -144,7 +147,10 @@ std::size_t runStudyLocally(const std::string& dir, const std::vector<CaseRecord
     while (next < cases.size() && running.size() < std::max<unsigned>(1, options.workers))
     {
       const std::size_t k = cases[next++];
-      running[startCase(dir, records[k], options)] = {k, Clock::now()};
+      // While cases wait, each worker's case on one core; the last ones on their own threads, so that the cores
+      // the finished workers leave speed them up (5 equal cases on 2 cores: 1.6× instead of at most 5/3 × 0.8).
+      const bool one_thread = options.one_thread_while_waiting && options.workers > 1 && next < cases.size();
+      running[startCase(dir, records[k], options, one_thread)] = {k, Clock::now()};
     }
     // Each case's own pid, polled: waiting for any child would also reap the study's plot process.
     int status = 0;
