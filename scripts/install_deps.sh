@@ -20,6 +20,8 @@ packages=(
   clang libclang-rt-14-dev
   # independent check of the H∞ synthesis (test_hinf_synthesis runs Octave's hinfsyn when installed)
   octave octave-control slurmd slurmctld slurm-client munge
+  # report.html rendered in a real browser by test/report/report_browser.sh (headless)
+  chromium
 )
 missing=()
 for p in "${packages[@]}"; do

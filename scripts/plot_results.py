@@ -290,12 +290,31 @@ def plot_contour_error(folder, trace, job):
     plt.close(fig)
 
 
+def worst_corner(path):
+    """The corner of metrics.yaml with the highest energy peak (the first of equals), found by a text scan: a whole
+    layer lists ~1e5 corners, too many to parse as YAML for one."""
+    best, best_peak, block = None, -1.0, None
+    with open(path) as f:
+        for line in f:
+            if line.startswith("  - polyline:"):
+                block = [line]
+            elif block is not None and line.startswith("    "):
+                block.append(line)
+                if line.startswith("    energy_peak_jpm2:"):
+                    peak = float(line.split(":", 1)[1])
+                    if peak > best_peak:
+                        best, best_peak = block, peak
+            elif block is not None:
+                block = None
+    return yaml.load("".join(best), Loader=LOADER)[0] if best else None
+
+
 def plot_corner(folder, trace, job, metrics):
-    corners = metrics.get("corners") or []
-    if not corners:
+    if not metrics.get("corners"):
         return
-    c = np.asarray(corners[0]["point_m"]) * 1e3
-    half = max(0.15, 3 * corners[0]["theory"]["max_contour_error_m"] * 1e3)
+    corner = worst_corner(os.path.join(folder, "metrics.yaml"))
+    c = np.asarray(corner["point_m"]) * 1e3
+    half = max(0.15, 3 * corner["theory"]["max_contour_error_m"] * 1e3)
     fig, ax = new_figure((6, 6), left=0.14, right=0.95, bottom=0.1, top=0.93)
     # The commanded path near the corner only (a whole layer has ~1e6 points).
     near = np.all(np.abs(job.points * 1e3 - c) <= 4 * half, axis=1)
@@ -311,7 +330,8 @@ def plot_corner(folder, trace, job, metrics):
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
-    ax.set_title("First corner: %.2f° at %.0f mm/s" % (corners[0]["angle_deg"], corners[0]["programmed_speed_mps"] * 1e3))
+    ax.set_title("Highest corner peak, %.3g J/mm²: %.1f° at %.0f mm/s"
+                 % (corner["energy_peak_jpm2"] * 1e-6, corner["angle_deg"], corner["programmed_speed_mps"] * 1e3))
     ax.legend(loc="upper left")
     fig.savefig(os.path.join(folder, "corner_zoom.png"), dpi=120, pil_kwargs=FAST_PNG)
     plt.close(fig)

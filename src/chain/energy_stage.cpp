@@ -1,5 +1,6 @@
 #include "scanhead/chain/energy_stage.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <future>
 #include <stdexcept>
@@ -304,6 +305,17 @@ RunMetrics EnergyStage::finish()
   }
   if (track.mean_jpm2 > 0.0 && !m.corners.empty())
     m.corner_peak_to_track_mean = ratio_sum / static_cast<double>(m.corners.size());
+  if (!m.corners.empty())
+  {
+    // The results zoom on the corner with the highest energy peak (the first of equals): crops/worst_corner.*, at
+    // full resolution, four spot diameters around the corner beyond what the path cut from it.
+    const CornerReport& worst = *std::max_element(
+        m.corners.begin(), m.corners.end(),
+        [](const CornerReport& a, const CornerReport& b) { return a.energy_peak_jpm2 < b.energy_peak_jpm2; });
+    const double cut = std::isfinite(worst.actual.max_contour_error_m) ? worst.actual.max_contour_error_m : 0.0;
+    const Eigen::Vector2d half = Eigen::Vector2d::Constant(cut + 4.0 * config_.energy.spot_diameter_m);
+    export_crops_.push_back({"worst_corner", worst.corner.point - half, worst.corner.point + half});
+  }
   // The results' overview and crops read the whole map: here, while the nearest-path pass holds the other core (on the
   // THESIS layer it outlasts the track's pass by seconds), rather than in the results phase after it.
   // (The map's memory is taken before: the views' reads fill the spill file's block cache, and on one thread they come

@@ -16,6 +16,7 @@
 #include "scanhead/metrics/metrics_report.hpp"
 #include "scanhead/report/energy_exports.hpp"
 #include "scanhead/report/job_picture.hpp"
+#include "scanhead/report/results_report.hpp"
 #include "scanhead/report/task_pool.hpp"
 #include "scanhead/report/thermal_images.hpp"
 
@@ -92,6 +93,8 @@ void writeResultsFolder(const FolderLock& lock, const RunMetrics& metrics, const
     throwIfStopRequested();
     if (finish)
       finish(tmp.string());
+    // Last: the page embeds every image, the plots included.
+    writeTextFile(tmp / "report.html", resultsReportHtml(tmp.string(), metrics, job));
     throwIfStopRequested();  // the last moment a stop still leaves the previous folder in place
     checkReplaceable(lock.folder());
     staging.publish();

@@ -14,7 +14,9 @@
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
+#include "scanhead/common/text_file.hpp"
 #include "scanhead/common/yaml_document.hpp"
+#include "scanhead/report/html_page.hpp"
 
 namespace scanhead
 {
@@ -128,7 +130,7 @@ std::vector<std::string> studySummaryColumns(const std::vector<CaseRecord>& case
   return columns;
 }
 
-std::size_t writeStudySummary(const std::string& dir, const std::vector<CaseRecord>& cases)
+std::size_t writeStudySummary(const std::string& dir, const std::vector<CaseRecord>& cases, std::string* html_body)
 {
   const std::vector<std::string> columns = studySummaryColumns(cases);
   std::ostringstream csv;
@@ -180,13 +182,20 @@ std::size_t writeStudySummary(const std::string& dir, const std::vector<CaseReco
   }
   writeFileWhole((fs::path(dir) / "summary.csv").string(), csv.str());
 
-  // The page: counts, the worst cases by each figure, every case, every failure with its error.
-  std::ostringstream md;
+  // The page: counts, the worst cases by each figure, every case, every failure with its error; as Markdown
+  // (summary.md) and as the body of summary.html (its plots are added when they are drawn).
+  std::ostringstream md, html;
+  std::ostringstream counts;
+  counts << cases.size() << " cases: " << done.size() << " done, " << failed.size() << " failed, " << pending.size()
+         << " pending.";
   md << "# Study summary\n\n"
-     << cases.size() << " cases: " << done.size() << " done, " << failed.size() << " failed, " << pending.size()
-     << " pending. Figures per case in `summary.csv`; each case's results in `cases/<case>/`.\n\n";
+     << counts.str() << " Figures per case in `summary.csv`; each case's results in `cases/<case>/`.\n\n";
+  html << "<h1>Study summary</h1>\n<p>" << htmlEscape(counts.str())
+       << " Figures per case in <code>summary.csv</code>; each case's results (and its report.html) in "
+          "<code>cases/&lt;case&gt;/</code>.</p>\n";
   if (!done.empty())
   {
+    std::vector<std::vector<std::string>> worst_rows;
     auto worst = [&](const char* what, auto value, bool low) {
       // Cases without the figure (NaN: no contour in the job; 0 corner ratio: no corner) are not ranked.
       const std::pair<const CaseRecord*, CaseFigures>* pick = nullptr;
@@ -199,7 +208,10 @@ std::size_t writeStudySummary(const std::string& dir, const std::vector<CaseReco
           pick = &d;
       }
       if (pick != nullptr)
+      {
         md << "- " << what << ": **" << pick->first->id << "** (" << sixDigitText(value(pick->second)) << ")\n";
+        worst_rows.push_back({what, pick->first->id, sixDigitText(value(pick->second))});
+      }
     };
     md << "## Worst cases\n\n";
     worst(
@@ -217,31 +229,88 @@ std::size_t writeStudySummary(const std::string& dir, const std::vector<CaseReco
         "highest corner peak / track mean", [](const CaseFigures& f) { return f.worst_corner_peak_ratio; }, false);
     worst(
         "highest energy peak [J/mm^2]", [](const CaseFigures& f) { return f.peak_energy_jmm2; }, false);
-    md << "\n## Cases\n\n| case | layer | status | wall [s] | layer time [s] | fill [%] | contour <10/20/30 um [%] | "
-          "hatch <10 um [%] | peak [J/mm^2] | corner peak ratio | laser early/late | dropped |\n"
-       << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    html << "<h2>Worst cases</h2>\n" << htmlTable({"figure", "case", "value"}, worst_rows, 2);
+    const std::vector<std::string> header = {"case",
+                                             "layer",
+                                             "status",
+                                             "wall [s]",
+                                             "layer time [s]",
+                                             "fill [%]",
+                                             "contour <10/20/30 um [%]",
+                                             "hatch <10 um [%]",
+                                             "peak [J/mm^2]",
+                                             "corner peak ratio",
+                                             "laser early/late",
+                                             "dropped"};
+    std::vector<std::vector<std::string>> rows;
     for (const auto& [c, f] : done)
-      md << "| " << c->id << " | " << (c->layer >= 0 ? std::to_string(c->layer) : "") << " | done | "
-         << (c->wall_s >= 0.0 ? fixedText(c->wall_s, 2) : "") << " | " << fixedText(f.layer_time_s, 4) << " | "
-         << percent(f.fill_rate) << " | " << percent(f.contour_under_um[0]) << " / " << percent(f.contour_under_um[1])
-         << " / " << percent(f.contour_under_um[2]) << " | " << percent(f.hatch_under_um[0]) << " | "
-         << sixDigitText(f.peak_energy_jmm2) << " | " << fixedText(f.worst_corner_peak_ratio, 3) << " | "
-         << f.laser_early << " / " << f.laser_late << " | " << f.dropped << " |\n";
+      rows.push_back(
+          {c->id, c->layer >= 0 ? std::to_string(c->layer) : "", "done",
+           c->wall_s >= 0.0 ? fixedText(c->wall_s, 2) : "", fixedText(f.layer_time_s, 4), percent(f.fill_rate),
+           percent(f.contour_under_um[0]) + " / " + percent(f.contour_under_um[1]) + " / " +
+               percent(f.contour_under_um[2]),
+           percent(f.hatch_under_um[0]), sixDigitText(f.peak_energy_jmm2), fixedText(f.worst_corner_peak_ratio, 3),
+           std::to_string(f.laser_early) + " / " + std::to_string(f.laser_late), std::to_string(f.dropped)});
+    md << "\n## Cases\n\n|";
+    for (const std::string& h : header)
+      md << " " << h << " |";
+    md << "\n|";
+    for (std::size_t k = 0; k < header.size(); ++k)
+      md << "---|";
+    md << "\n";
+    for (const auto& row : rows)
+    {
+      md << "|";
+      for (const std::string& cell : row)
+        md << " " << cell << " |";
+      md << "\n";
+    }
+    html << "<h2>Cases</h2>\n" << htmlTable(header, rows, 3);
   }
   if (!failed.empty())
   {
     md << "\n## Failed cases\n\n";
+    html << "<h2>Failed cases</h2>\n<ul>\n";
     for (const CaseRecord* c : failed)
+    {
       md << "- **" << c->id << "** (exit " << c->exit_code << "): " << c->error << " — log: `logs/" << c->id
          << ".log`\n";
+      html << "<li><b>" << htmlEscape(c->id) << "</b> (exit " << c->exit_code << "): " << htmlEscape(c->error)
+           << " — log: <code>logs/" << htmlEscape(c->id) << ".log</code></li>\n";
+    }
+    html << "</ul>\n";
   }
   if (!pending.empty())
   {
     md << "\n## Pending cases\n\n";
+    html << "<h2>Pending cases</h2>\n<ul>\n";
     for (const CaseRecord* c : pending)
+    {
       md << "- " << c->id << "\n";
+      html << "<li>" << htmlEscape(c->id) << "</li>\n";
+    }
+    html << "</ul>\n";
   }
+  if (html_body != nullptr)
+    *html_body = html.str();
   writeFileWhole((fs::path(dir) / "summary.md").string(), md.str());
   return done.size();
+}
+void writeStudySummaryPage(const std::string& dir, const std::string& html_body)
+{
+  std::string body = html_body;
+  const std::pair<const char*, const char*> plots[] = {
+      {"summary_layers.png", "Each figure across the layers (or job files) of the study"},
+      {"summary_grid.png", "Each figure per grid combination"}};
+  bool any = false;
+  for (const auto& [name, caption] : plots)
+  {
+    const std::string png = readFileOrEmpty((fs::path(dir) / name).string());
+    if (png.empty())
+      continue;
+    body += (any ? "" : "<h2>Plots</h2>\n") + htmlPngFigure(png, caption);
+    any = true;
+  }
+  writeFileWhole((fs::path(dir) / "summary.html").string(), htmlPage("scanhead study summary", body));
 }
 }  // namespace scanhead

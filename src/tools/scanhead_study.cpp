@@ -52,12 +52,14 @@ Counts countOf(const std::vector<CaseRecord>& records)
   return c;
 }
 
-/// \brief summary.csv, summary.md and the plots of the figures across layers and grid values; \p plotter: the plot
+/// \brief summary.csv, summary.md, the plots of the figures across layers and grid values and summary.html (the
+/// page with them); \p plotter: the plot
 /// script started with the cases (it has imported matplotlib meanwhile), else it is started now.
 void collect(const std::string& dir, PlotProcess* plotter = nullptr)
 {
   const std::vector<CaseRecord> records = readStudyCases(dir);
-  const std::size_t with_figures = writeStudySummary(dir, records);
+  std::string html_body;
+  const std::size_t with_figures = writeStudySummary(dir, records, &html_body);
   if (with_figures > 0 && plotter != nullptr)
   {
     if (!plotter->plot(dir))
@@ -65,9 +67,10 @@ void collect(const std::string& dir, PlotProcess* plotter = nullptr)
   }
   else if (with_figures > 0)
     runPythonScript("scripts/plot_study.py", {(fs::path(dir) / "summary.csv").string(), dir}, "study plots");
+  writeStudySummaryPage(dir, html_body);  // after the plots: it embeds them
   const Counts c = countOf(records);
   std::cout << "study " << dir << ": " << records.size() << " cases, " << c.done << " done, " << c.failed << " failed, "
-            << c.pending << " pending; summary in " << (fs::path(dir) / "summary.md").string() << "\n";
+            << c.pending << " pending; summary in " << (fs::path(dir) / "summary.html").string() << "\n";
 }
 }  // namespace
 
@@ -114,7 +117,7 @@ int main(int argc, char** argv)
     std::string dir;
     CLI::App* status = app.add_subcommand("status", "how many cases are done, failed, pending; the failures' errors");
     status->add_option("DIR", dir, "the study folder")->required();
-    CLI::App* collect_cmd = app.add_subcommand("collect", "write summary.csv, summary.md and the study plots");
+    CLI::App* collect_cmd = app.add_subcommand("collect", "write summary.csv, summary.md, the study plots and summary.html");
     collect_cmd->add_option("DIR", dir, "the study folder")->required();
     std::size_t index = 0;
     CLI::App* run_case = app.add_subcommand("run-case", "run one case of a study folder (a Slurm array task)");

@@ -60,7 +60,7 @@ private:
   ChainConfig config_;
   std::string job_name_;
   std::string job_placement_;  ///< RunMetrics::job_placement
-  double actual_delay_s_;  ///< the actual path behind the ideal timeline: filter + servo delay [s]
+  double actual_delay_s_;      ///< the actual path behind the ideal timeline: filter + servo delay [s]
   EnergyAccumulator accumulator_;
   CornerTracker corners_;
   LaserSettlingCheck settling_;
@@ -75,10 +75,10 @@ private:
   TraceRecorder trace_;
   NcStats nc_stats_;  ///< the plan's figures (the per-sample ones stay with the NC)
   LayerQuality quality_;
-  std::unique_ptr<ThermalLayer> thermal_;                ///< optional (thermal.enabled)
-  std::uint64_t thermal_samples_ = 0;                    ///< samples given to it
-  std::unique_ptr<SideThread> side_;                     ///< runs the trackers beside the map (stream.threads = 2)
-  std::vector<MapRegion> export_crops_;                  ///< the crops of the results (exportCrops)
+  std::unique_ptr<ThermalLayer> thermal_;  ///< optional (thermal.enabled)
+  std::uint64_t thermal_samples_ = 0;      ///< samples given to it
+  std::unique_ptr<SideThread> side_;       ///< runs the trackers beside the map (stream.threads = 2)
+  std::vector<MapRegion> export_crops_;    ///< the crops of the results (exportCrops; finish() adds the worst corner)
   mutable std::shared_ptr<const EnergyMapViews> views_;  ///< read once, by finish() or mapViews()
 };
 }  // namespace scanhead

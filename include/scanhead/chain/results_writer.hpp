@@ -15,7 +15,8 @@
 /// (marks and jumps), trace.csv (decimated spot
 /// stream), energy_map.png (colour map with a colour bar; scale in energy_map.yaml),
 /// energy_map_16bit.png (linear, 0..peak) and energy_map.yaml (geometry and scale); then the
-/// finisher's files (the plots).
+/// finisher's files (the plots); last report.html (report/results_report: the page to open or send,
+/// every image embedded).
 ///
 /// The files are independent: they are written side by side on a few threads (report/task_pool),
 /// each by one task, so their bytes are those of a serial write whatever the thread count.

@@ -1,6 +1,7 @@
 /// \file study_summary.hpp
 /// \brief What a build engineer reads of a study: one row per case (summary.csv), the same as a page
-/// (summary.md) with the failures and the worst layers named.
+/// (summary.md) with the failures and the worst layers named, and as summary.html with the study's plots
+/// embedded (report/html_page: one file to open or send).
 #pragma once
 
 #include <string>
@@ -31,6 +32,12 @@ CaseFigures readCaseFigures(const std::string& metrics_path);
 std::vector<std::string> studySummaryColumns(const std::vector<CaseRecord>& cases);
 
 /// \brief Writes DIR/summary.csv and DIR/summary.md for \p cases (their figures read from their folders).
+/// \param[out] html_body if set, the same as HTML (for writeStudySummaryPage once the plots are drawn)
 /// \return the number of cases with figures
-std::size_t writeStudySummary(const std::string& dir, const std::vector<CaseRecord>& cases);
+std::size_t writeStudySummary(const std::string& dir, const std::vector<CaseRecord>& cases,
+                              std::string* html_body = nullptr);
+
+/// \brief Writes DIR/summary.html: \p html_body (from writeStudySummary) and the plots the folder has
+/// (summary_layers.png, summary_grid.png), embedded.
+void writeStudySummaryPage(const std::string& dir, const std::string& html_body);
 }  // namespace scanhead
