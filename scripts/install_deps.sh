@@ -20,8 +20,9 @@ packages=(
   clang libclang-rt-14-dev
   # independent check of the H∞ synthesis (test_hinf_synthesis runs Octave's hinfsyn when installed)
   octave octave-control slurmd slurmctld slurm-client munge
-  # report.html rendered in a real browser by test/report/report_browser.sh (headless)
-  chromium
+  # report.html rendered in a real browser by test/report/report_browser.sh (headless); rviz's screenshot test
+  # (test/ros/rviz_screenshot.sh) on a virtual X server
+  chromium xvfb x11-apps
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -11,14 +11,17 @@ OpticalChainNode::OpticalChainNode(ros::NodeHandle& nh, ros::NodeHandle& private
   const ChainConfig config = chainConfigFromParams(nh);
   optics_ = opticalModelFromParams(nh, config.optics);
   stage_ = std::make_unique<OpticsStage>(*optics_);
+  beam_view_ = std::make_unique<BeamView>(nh, *optics_);
   Adapter::Binding binding;
   // The optics needs nothing of the job: its reset argument is empty (the plan is not read).
   binding.job = [](const ChunkInfo&) { return std::optional<NoInput>(NoInput()); };
-  binding.process = [](OpticsStage& stage, const Adapter::Messages& m) {
+  binding.process = [this](OpticsStage& stage, const Adapter::Messages& m) {
     const SetpointChunk setpoint = fromMsg(*std::get<0>(m));
     const LaserChunk laser = fromMsg(*std::get<1>(m));
     const JointChunk joints = fromMsg(*std::get<2>(m));
-    return stage.process({setpoint, joints, laser});
+    SpotChunk spots = stage.process({setpoint, joints, laser});
+    beam_view_->record(joints, spots);
+    return spots;
   };
   binding.publish = [this](const SpotChunk& spots, const ChunkHeader& header) { spot_out_.push(toMsg(spots, header)); };
   adapter_ = std::make_unique<Adapter>(

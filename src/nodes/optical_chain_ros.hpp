@@ -1,6 +1,6 @@
 /// \file optical_chain_ros.hpp
 /// \brief The optics node: joins nc/setpoint, nc/laser and galvo/joint_states_chunk by sample
-/// index and publishes optics/spot.
+/// index and publishes optics/spot (and, for rviz, optics/beam: ros_beam_view.hpp).
 #pragma once
 
 #include <ros/ros.h>
@@ -11,6 +11,7 @@
 
 #include <memory>
 
+#include "ros_beam_view.hpp"
 #include "ros_chunk_outlet.hpp"
 #include "ros_stage_node.hpp"
 #include "scanhead/chain/chain_stages.hpp"
@@ -29,6 +30,7 @@ private:
 
   std::unique_ptr<OpticalModel> optics_;
   std::unique_ptr<OpticsStage> stage_;
+  std::unique_ptr<BeamView> beam_view_;
   ChunkOutlet<SpotStream> spot_out_;
   std::unique_ptr<Adapter> adapter_;
   ros::Timer timer_;

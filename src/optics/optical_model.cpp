@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <vector>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -616,11 +617,17 @@ OpticalModel::OpticalModel(const OpticalGeometry& geometry, const OpticsConfig& 
 }
 
 template <bool kWithJacobian>
-OpticalModel::Ray OpticalModel::traceImpl(const Eigen::Vector2d& q, Eigen::Matrix2d* jacobian) const
+OpticalModel::Ray OpticalModel::traceImpl(const Eigen::Vector2d& q, Eigen::Matrix2d* jacobian,
+                                          std::vector<Eigen::Vector3d>* points) const
 {
   RayState r;
   r.p = source_point_;
   r.d = source_direction_;
+  auto record = [&] {
+    if (points != nullptr)
+      points->push_back(r.p);
+  };
+  record();
   if (kWithJacobian)
   {
     r.dp.setZero();
@@ -629,12 +636,17 @@ OpticalModel::Ray OpticalModel::traceImpl(const Eigen::Vector2d& q, Eigen::Matri
   const MirrorTerms& mx = mirror_x_terms_;
   const MirrorTerms& my = mirror_y_terms_;
   reflect<kWithJacobian>(r, mx.n_c, mx.n_s, mx.n_0, mx.p_c, mx.p_s, mx.p_0, q.x(), 0, "mirror X");
+  record();
   reflect<kWithJacobian>(r, my.n_c, my.n_s, my.n_0, my.p_c, my.p_s, my.p_0, q.y(), 1, "mirror Y");
+  record();
   const double e = config_.window_thickness_m;
   crossPlate<kWithJacobian>(r, window_1_point_, window_1_normal_, e, eta_, "window 1");
+  record();
   crossPlate<kWithJacobian>(r, window_2_point_, window_2_normal_, e, eta_, "window 2");
+  record();
   const Vec3 zero = Vec3::Zero();
   moveToPlane<kWithJacobian>(r, plane_point_, plane_normal_, -1, zero, zero, "work plane");
+  record();
 
   Ray ray;
   ray.spot = (plane_rotation_t_ * (r.p - plane_point_)).head<2>();
@@ -657,6 +669,14 @@ OpticalModel::Ray OpticalModel::trace(const Eigen::Vector2d& q) const
   ray.spot = Eigen::Vector2d(spot_x, spot_y);
   ray.direction = Eigen::Vector3d(d.x, d.y, d.z);  // unit: reflections and Snell keep |d| = 1
   return ray;
+}
+
+std::vector<Eigen::Vector3d> OpticalModel::beamPoints(const Eigen::Vector2d& q) const
+{
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(6);
+  traceImpl<false>(q, nullptr, &points);
+  return points;
 }
 
 std::size_t OpticalModel::traceBlock(std::size_t n, const double* q_x, const double* q_y, double* spot_x,
@@ -699,7 +719,7 @@ std::size_t OpticalModel::traceBlock(std::size_t n, const double* q_x, const dou
 SCANHEAD_FLATTEN OpticalModel::Ray OpticalModel::traceWithJacobian(const Eigen::Vector2d& q,
                                                                    Eigen::Matrix2d& jacobian) const
 {
-  return traceImpl<true>(q, &jacobian);
+  return traceImpl<true>(q, &jacobian, nullptr);
 }
 
 Eigen::Matrix2d OpticalModel::jacobian(const Eigen::Vector2d& q) const

@@ -101,7 +101,8 @@ OpticalModel makeModel(const std::string& xml, const OpticsConfig& config = Opti
 
 /// Independent closed form of the nominal head (planes intersected by hand, directions from the
 /// double-angle rule, scalar Snell law through horizontal plates); no vector reflection/refraction.
-Eigen::Vector2d closedFormSpot(double tx, double ty, const OpticsConfig& c)
+Eigen::Vector2d closedFormSpot(double tx, double ty, const OpticsConfig& c, Eigen::Vector3d* hit_x = nullptr,
+                               Eigen::Vector3d* hit_y = nullptr)
 {
   const double r2 = std::sqrt(2.0);
   // Mirror X: normal Rz(-tx)(-1, 1, 0)/√2, plane n.(X - A) = e_m, A = (e_m/√2, -d - e_m/√2, Zr).
@@ -116,6 +117,11 @@ Eigen::Vector2d closedFormSpot(double tx, double ty, const OpticsConfig& c)
   const double t = (kEm - ny.dot(p1 - ay)) / ny.dot(d1);
   const Eigen::Vector3d p2 = p1 + t * d1;
   const Eigen::Vector3d d2(std::sin(2 * tx), std::cos(2 * tx) * std::sin(2 * ty), -std::cos(2 * tx) * std::cos(2 * ty));
+  if (hit_x != nullptr && hit_y != nullptr)
+  {
+    *hit_x = p1;
+    *hit_y = p2;
+  }
   // Descent to z = 0: slope tan(alpha) in gas, tan(r) over the 2 e_v of glass.
   const Eigen::Vector2d horizontal = d2.head<2>();
   const double rho = horizontal.norm();
@@ -138,6 +144,26 @@ TEST(OpticalModel, CentreRayHitsOriginNormally)
   EXPECT_NEAR(ray.direction.x(), 0.0, 1e-12);
   EXPECT_NEAR(ray.direction.y(), 0.0, 1e-12);
   EXPECT_NEAR(ray.direction.z(), -1.0, 1e-12);
+}
+
+// The beam rviz draws (beamPoints): source, the mirror hits of the closed form, the windows, then the spot of trace().
+TEST(OpticalModel, BeamPointsFollowTheTrace)
+{
+  const OpticalModel model = makeModel(readUrdf());
+  const Eigen::Vector2d q(0.05, -0.03);
+  const std::vector<Eigen::Vector3d> beam = model.beamPoints(q);
+  ASSERT_EQ(beam.size(), 6u);
+  Eigen::Vector3d hit_x, hit_y;
+  const Eigen::Vector2d spot = closedFormSpot(q.x(), q.y(), model.config(), &hit_x, &hit_y);
+  EXPECT_NEAR((beam[1] - hit_x).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((beam[2] - hit_y).norm(), 0.0, 1e-12);
+  // Each window's exit lies below the mirror Y hit and above the plane; the last point is the spot (z = 0 nominal).
+  EXPECT_LT(beam[3].z(), beam[2].z());
+  EXPECT_LT(beam[4].z(), beam[3].z());
+  EXPECT_GT(beam[4].z(), 0.0);
+  EXPECT_NEAR((beam[5].head<2>() - model.trace(q).spot).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((beam[5].head<2>() - spot).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(beam[5].z(), 0.0, 1e-12);
 }
 
 TEST(OpticalModel, UrdfGivesTheDocumentedLayout)

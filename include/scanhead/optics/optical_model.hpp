@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "scanhead/optics/optics_config.hpp"
 
@@ -82,6 +83,10 @@ public:
   ///         or is totally reflected inside a window
   Ray trace(const Eigen::Vector2d& q) const;
   Eigen::Vector2d spot(const Eigen::Vector2d& q) const { return trace(q).spot; }
+  /// \brief Where the beam of trace(\p q) is, in scanhead_base [m]: the source, its hits on mirror X and mirror Y,
+  /// where it leaves window 1 and window 2, and the spot on the work plane (6 points: what rviz draws as the beam).
+  /// \throws NumericalError as trace()
+  std::vector<Eigen::Vector3d> beamPoints(const Eigen::Vector2d& q) const;
 
   /// \brief trace() of \p n rays at once, in structure-of-arrays form (the same operations in the
   /// same order, 4 rays in the lanes of a vector; an AVX2 clone where the CPU has it, without FMA):
@@ -126,7 +131,7 @@ private:
     Eigen::Vector3d p_c, p_s, p_0;
   };
   template <bool kWithJacobian>
-  Ray traceImpl(const Eigen::Vector2d& q, Eigen::Matrix2d* jacobian) const;
+  Ray traceImpl(const Eigen::Vector2d& q, Eigen::Matrix2d* jacobian, std::vector<Eigen::Vector3d>* points) const;
   Ray traceWithJacobian(const Eigen::Vector2d& q, Eigen::Matrix2d& jacobian) const;
 
   OpticalGeometry geometry_;
