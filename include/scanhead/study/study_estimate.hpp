@@ -2,7 +2,8 @@
 /// \brief How long a study's cases will take, before they run: the run plan's wall-time estimate (run_plan.hpp:
 /// the development VM's measured rates, ×0.5–2) of every job; of a layered file the first layer is planned and every
 /// other layer's NC program taken as the first's times their path-time ratio (the reader's survey, file_survey.hpp),
-/// so the estimate holds one layer in memory whatever the build; each grid combination is assumed to cost what the first does.
+/// so the estimate holds one layer in memory whatever the build; each grid combination is assumed to cost what the
+/// first does.
 #pragma once
 
 #include <cstddef>

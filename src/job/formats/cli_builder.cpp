@@ -35,13 +35,7 @@ void JobBuilder::endMark()
   // The survey sees the file as read with every layer (cam.layer = -1): jumps join the layers too.
   const std::size_t layer = static_cast<std::size_t>(layers_ - 1);
   if (has_surveyed_ && start != surveyed_end_)
-  {
-    Polyline jump;
-    jump.type = PolylineType::Jump;
-    jump.speed_mps = jump_speed_mps_;
-    jump.points = {surveyed_end_, start};
-    job_.file.add(layer, jump);
-  }
+    job_.file.addTime(layer, (start - surveyed_end_).norm() / jump_speed_mps_);  // its ends are marks' points
   job_.file.add(layer, current_);
   surveyed_end_ = current_.points.back();
   has_surveyed_ = true;

@@ -37,8 +37,6 @@ public:
     active_ = want_ < 0 || want_ == layers_ - 1;
   }
   bool inLayer() const { return layers_ > 0; }
-  /// \brief Whether the current layer is kept (geometry of other layers is checked and surveyed, not stored).
-  bool active() const { return active_; }
   int layers() const { return layers_; }
 
   void setSpeed(double speed_mps) { speed_mps_ = speed_mps; }
