@@ -616,18 +616,24 @@ OpticalModel::OpticalModel(const OpticalGeometry& geometry, const OpticsConfig& 
   surfaces_ = std::move(surfaces);
 }
 
-template <bool kWithJacobian>
+template <bool kWithJacobian, bool kRecord>
 OpticalModel::Ray OpticalModel::traceImpl(const Eigen::Vector2d& q, Eigen::Matrix2d* jacobian,
                                           std::vector<Eigen::Vector3d>* points) const
 {
   RayState r;
   r.p = source_point_;
   r.d = source_direction_;
-  auto record = [&] {
-    if (points != nullptr)
-      points->push_back(r.p);
+  // beamPoints() only (kRecord): the hot instantiations keep the ray state in registers.
+  auto record = [&points](const Vec3& p) {
+    if constexpr (kRecord)
+      points->push_back(p);
+    else
+    {
+      (void)points;
+      (void)p;
+    }
   };
-  record();
+  record(r.p);
   if (kWithJacobian)
   {
     r.dp.setZero();
@@ -636,17 +642,17 @@ OpticalModel::Ray OpticalModel::traceImpl(const Eigen::Vector2d& q, Eigen::Matri
   const MirrorTerms& mx = mirror_x_terms_;
   const MirrorTerms& my = mirror_y_terms_;
   reflect<kWithJacobian>(r, mx.n_c, mx.n_s, mx.n_0, mx.p_c, mx.p_s, mx.p_0, q.x(), 0, "mirror X");
-  record();
+  record(r.p);
   reflect<kWithJacobian>(r, my.n_c, my.n_s, my.n_0, my.p_c, my.p_s, my.p_0, q.y(), 1, "mirror Y");
-  record();
+  record(r.p);
   const double e = config_.window_thickness_m;
   crossPlate<kWithJacobian>(r, window_1_point_, window_1_normal_, e, eta_, "window 1");
-  record();
+  record(r.p);
   crossPlate<kWithJacobian>(r, window_2_point_, window_2_normal_, e, eta_, "window 2");
-  record();
+  record(r.p);
   const Vec3 zero = Vec3::Zero();
   moveToPlane<kWithJacobian>(r, plane_point_, plane_normal_, -1, zero, zero, "work plane");
-  record();
+  record(r.p);
 
   Ray ray;
   ray.spot = (plane_rotation_t_ * (r.p - plane_point_)).head<2>();
@@ -675,7 +681,7 @@ std::vector<Eigen::Vector3d> OpticalModel::beamPoints(const Eigen::Vector2d& q) 
 {
   std::vector<Eigen::Vector3d> points;
   points.reserve(6);
-  traceImpl<false>(q, nullptr, &points);
+  traceImpl<false, true>(q, nullptr, &points);
   return points;
 }
 

@@ -130,7 +130,8 @@ private:
     Eigen::Vector3d n_c, n_s, n_0;
     Eigen::Vector3d p_c, p_s, p_0;
   };
-  template <bool kWithJacobian>
+  /// kRecord: append where the ray is after each surface to *points (beamPoints)
+  template <bool kWithJacobian, bool kRecord = false>
   Ray traceImpl(const Eigen::Vector2d& q, Eigen::Matrix2d* jacobian, std::vector<Eigen::Vector3d>* points) const;
   Ray traceWithJacobian(const Eigen::Vector2d& q, Eigen::Matrix2d& jacobian) const;
 
