@@ -4,6 +4,7 @@
 
 #include <visualization_msgs/MarkerArray.h>
 
+#include "ros_energy_views.hpp"
 #include "scanhead/common/errors.hpp"
 
 namespace scanhead
@@ -19,23 +20,6 @@ geometry_msgs::Point toPoint(double x, double y, double z)
   p.y = y;
   p.z = z;
   return p;
-}
-
-visualization_msgs::Marker lineStrip(const char* frame, const char* ns, double width, float r, float g, float b)
-{
-  visualization_msgs::Marker m;
-  m.header.frame_id = frame;
-  m.header.stamp = ros::Time::now();
-  m.ns = ns;
-  m.type = visualization_msgs::Marker::LINE_STRIP;
-  m.action = visualization_msgs::Marker::ADD;
-  m.pose.orientation.w = 1.0;
-  m.scale.x = width;
-  m.color.r = r;
-  m.color.g = g;
-  m.color.b = b;
-  m.color.a = 1.0;
-  return m;
 }
 }  // namespace
 
@@ -74,8 +58,8 @@ void BeamView::publish()
       return;
     fresh_ = false;
     // The beam: 2 mm wide so that it shows at the head's scale; red with the laser on.
-    visualization_msgs::Marker beam = lineStrip("scanhead_base", "beam", 2e-3, laser_on_ ? 1.0f : 0.6f,
-                                                laser_on_ ? 0.1f : 0.6f, laser_on_ ? 0.1f : 0.6f);
+    visualization_msgs::Marker beam = lineStripMarker("scanhead_base", "beam", 0, 2e-3, laser_on_ ? 1.0f : 0.6f,
+                                                      laser_on_ ? 0.1f : 0.6f, laser_on_ ? 0.1f : 0.6f);
     try
     {
       for (const Eigen::Vector3d& p : optics_.beamPoints(angles_))
@@ -85,8 +69,7 @@ void BeamView::publish()
     {
       beam.points.clear();  // angles the beam cannot take (a diverging servo): no beam drawn
     }
-    visualization_msgs::Marker trail = lineStrip("work_plane_defect", "spot_trail", 1e-4, 1.0f, 0.9f, 0.2f);
-    trail.id = 1;
+    visualization_msgs::Marker trail = lineStripMarker("work_plane_defect", "spot_trail", 1, 1e-4, 1.0f, 0.9f, 0.2f);
     for (const Eigen::Vector2d& p : trail_)
       trail.points.push_back(toPoint(p.x(), p.y(), 2e-4));  // just above the energy map
     if (!beam.points.empty())

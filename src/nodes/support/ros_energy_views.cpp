@@ -8,10 +8,22 @@ namespace
 {
 constexpr const char* kPlaneFrame = "work_plane_defect";
 
-visualization_msgs::Marker lineMarker(const std::string& ns, int id, float r, float g, float b, double width)
+geometry_msgs::Point point(const Eigen::Vector2d& p, double z)
+{
+  geometry_msgs::Point q;
+  q.x = p.x();
+  q.y = p.y();
+  q.z = z;
+  return q;
+}
+
+}  // namespace
+
+visualization_msgs::Marker lineStripMarker(const std::string& frame, const std::string& ns, int id, double width,
+                                           float r, float g, float b)
 {
   visualization_msgs::Marker m;
-  m.header.frame_id = kPlaneFrame;
+  m.header.frame_id = frame;
   m.ns = ns;
   m.id = id;
   m.type = visualization_msgs::Marker::LINE_STRIP;
@@ -24,17 +36,6 @@ visualization_msgs::Marker lineMarker(const std::string& ns, int id, float r, fl
   m.color.a = 1.0;
   return m;
 }
-
-geometry_msgs::Point point(const Eigen::Vector2d& p, double z)
-{
-  geometry_msgs::Point q;
-  q.x = p.x();
-  q.y = p.y();
-  q.z = z;
-  return q;
-}
-
-}  // namespace
 
 sensor_msgs::Image energyImage(const EnergyMap& map)
 {
@@ -80,12 +81,13 @@ visualization_msgs::MarkerArray pathMarkers(const Job& job, const TraceRecorder&
   for (const Polyline& line : job.polylines)
   {
     const bool mark = line.type == PolylineType::Mark;
-    auto m = lineMarker("commanded", id++, mark ? 0.1f : 0.6f, mark ? 0.8f : 0.6f, mark ? 0.2f : 0.6f, 10e-6);
+    auto m = lineStripMarker(kPlaneFrame, "commanded", id++, 10e-6, mark ? 0.1f : 0.6f, mark ? 0.8f : 0.6f,
+                             mark ? 0.2f : 0.6f);
     for (const Eigen::Vector2d& p : line.points)
       m.points.push_back(point(p, 1e-6));
     markers.markers.push_back(m);
   }
-  auto actual = lineMarker("actual", 0, 0.9f, 0.1f, 0.1f, 5e-6);
+  auto actual = lineStripMarker(kPlaneFrame, "actual", 0, 5e-6, 0.9f, 0.1f, 0.1f);
   for (const TraceRow& row : trace.rows())
     actual.points.push_back(point(row.spot.actual, 2e-6));
   markers.markers.push_back(actual);

@@ -19,6 +19,10 @@ sensor_msgs::Image energyImage(const EnergyMap& map);
 /// \brief The map downsampled to at most 1000 cells a side, 0..100 of the peak, for rviz's Map display.
 nav_msgs::OccupancyGrid energyGrid(const EnergyMap& map);
 
+/// \brief An opaque LINE_STRIP in \p frame, \p width [m] wide, colour (\p r, \p g, \p b); its points to be added.
+visualization_msgs::Marker lineStripMarker(const std::string& frame, const std::string& ns, int id, double width,
+                                           float r, float g, float b);
+
 /// \brief Commanded path (marks green, jumps grey) and the actual spot path (red), just above the plane.
 visualization_msgs::MarkerArray pathMarkers(const Job& job, const TraceRecorder& trace);
 }  // namespace scanhead
