@@ -191,13 +191,22 @@ std::string comparisonYaml(const RunComparison& c)
   return out;
 }
 
+std::vector<std::string> comparisonCells(const ComparisonRow& r)
+{
+  return {r.label, r.unit, cell(r.a, r.unit), cell(r.b, r.unit), change(r), better(r)};
+}
+
 std::string comparisonMarkdown(const RunComparison& c)
 {
   std::string out =
       "| figure | unit | " + c.name_a + " | " + c.name_b + " | B − A | better |\n|---|---|---|---|---|---|\n";
   for (const ComparisonRow& r : c.rows)
-    out += "| " + r.label + " | " + r.unit + " | " + cell(r.a, r.unit) + " | " + cell(r.b, r.unit) + " | " + change(r) +
-           " | " + better(r) + " |\n";
+  {
+    out += "|";
+    for (const std::string& text : comparisonCells(r))
+      out += " " + text + " |";
+    out += "\n";
+  }
   return out;
 }
 }  // namespace scanhead

@@ -6,9 +6,10 @@
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/text_file.hpp"
 #include "scanhead/metrics/run_comparison.hpp"
+#include "scanhead/report/comparison_report.hpp"
 #include "support/command_line.hpp"
-#include "support/tool_errors.hpp"
 #include "support/python_plots.hpp"
+#include "support/tool_errors.hpp"
 
 namespace
 {
@@ -33,7 +34,8 @@ int main(int argc, char** argv)
     app.add_option("RUN_B", run_b, "the second run, likewise")->required();
     app.add_option("--names", names, "labels of the two runs (default: their job names)")->type_name("A,B");
     app.add_option("--out", out,
-                   "write comparison.yaml, comparison.md and comparison.png (scripts/plot_comparison.py) there")
+                   "write comparison.yaml, comparison.md, comparison.png (scripts/plot_comparison.py) and "
+                   "comparison.html (the page with both) there")
         ->type_name("DIR");
     if (!parseCommandLine(app, argc, argv))
       return 0;
@@ -56,6 +58,10 @@ int main(int argc, char** argv)
       runPythonScript("scripts/plot_comparison.py",
                       {metricsPath(runs[0]), metricsPath(runs[1]), comparison.name_a, comparison.name_b,
                        (std::filesystem::path(out) / "comparison.png").string()});
+      // Last: the page embeds the chart.
+      writeTextFile(std::filesystem::path(out) / "comparison.html",
+                    comparisonReportHtml(comparison, runs[0], runs[1],
+                                         readFileOrEmpty((std::filesystem::path(out) / "comparison.png").string())));
       std::cout << "written to " << out << "/\n";
     }
     return 0;

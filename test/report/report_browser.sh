@@ -2,7 +2,8 @@
 # Issue 17, item 2: report.html in a real browser. scanhead_run writes a results folder (every plot), headless
 # Chromium loads its report.html from the file system (no server, no network), and the page's own load check
 # (report/html_page: data-* on <body>) must say that every image decoded and the tables are there; then the
-# screenshot must show them (many colours, not a blank page). The same for a study's summary.html.
+# screenshot must show them (many colours, not a blank page). The same for scanhead_compare's comparison.html and a
+# study's summary.html.
 # usage: report_browser.sh SCANHEAD_RUN SCANHEAD_STUDY     exit 77: no chromium here (install_deps.sh installs it)
 set -euo pipefail
 RUN=$1
@@ -50,6 +51,12 @@ PY
 "$RUN" --job squares:rows=1,columns=2 --out "$TMP/squares" --quiet > /dev/null
 [ -s "$TMP/squares/report.html" ] || fail "no report.html in the results folder"
 browse "$TMP/squares/report.html" 8 4
+
+# Two runs compared: the table and the chart.
+"$RUN" --job squares:rows=1,columns=2 --set nc.fir_t1_s=4e-4 --out "$TMP/squares_t1" --plots none --quiet > /dev/null
+"$(dirname "$RUN")/scanhead_compare" "$TMP/squares" "$TMP/squares_t1" --out "$TMP/compare" > "$TMP/compare.out" 2>&1 \
+  || fail "scanhead_compare: $(cat "$TMP/compare.out")"
+browse "$TMP/compare/comparison.html" 1 1
 
 # A study's summary page: its tables (worst cases, cases), its plot.
 cat > "$TMP/study.yaml" << 'YAML'

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "scanhead/report/comparison_report.hpp"
 #include "scanhead/report/html_page.hpp"
 #include "scanhead/report/png_writer.hpp"
 #include "scanhead/report/results_report.hpp"
@@ -101,4 +102,28 @@ TEST(ResultsReport, FiguresCornersAndImages)
   EXPECT_EQ(html.find("- polyline: 0"), std::string::npos);
   EXPECT_NE(html.find("period_s: 1e-05"), std::string::npos);
   EXPECT_NE(html.find("data-images-loaded"), std::string::npos);
+}
+
+// comparison.html: every row of the comparison with its cells (the Markdown's), which run is better, the names
+// escaped; no chart, no image.
+TEST(ComparisonReport, RowsAndNames)
+{
+  scanhead::RunComparison c;
+  c.name_a = "pd";
+  c.name_b = "h<inf>";
+  scanhead::ComparisonRow row;
+  row.label = "fill rate (hatch)";
+  row.unit = "%";
+  row.a = 96.46;
+  row.b = 93.31;
+  row.better = scanhead::Better::Higher;
+  c.rows.push_back(row);
+  const std::string html = scanhead::comparisonReportHtml(c, "/r/a", "/r/b", "");
+  EXPECT_NE(html.find("B: h&lt;inf&gt;"), std::string::npos);
+  std::string cells;
+  for (const std::string& text : scanhead::comparisonCells(row))
+    cells += text + "|";
+  EXPECT_EQ(cells, "fill rate (hatch)|%|96.46|93.31|-3.15 pt|A|");
+  EXPECT_NE(html.find("<td class=\"n\">-3.15 pt</td><td>A</td>"), std::string::npos) << html;
+  EXPECT_EQ(html.find("<img"), std::string::npos);
 }

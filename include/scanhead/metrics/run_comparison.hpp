@@ -43,6 +43,8 @@ RunComparison compareMetricsFiles(const std::string& metrics_a, const std::strin
 std::string comparisonTable(const RunComparison& comparison);
 /// \brief The same as YAML (full precision): {runs: [a, b], rows: [{key, label, unit, a, b}]}.
 std::string comparisonYaml(const RunComparison& comparison);
+/// \brief One row as text: figure, unit, run A, run B, B − A, better (the cells of every table form).
+std::vector<std::string> comparisonCells(const ComparisonRow& row);
 /// \brief The same as a Markdown table (for reports and READMEs).
 std::string comparisonMarkdown(const RunComparison& comparison);
 }  // namespace scanhead
