@@ -2,6 +2,8 @@
 
 #include <signal.h>
 
+#include <cstdio>
+
 #include <scanhead/ChunkAck.h>
 #include <scanhead/JobMetrics.h>
 
@@ -249,6 +251,9 @@ void EnergyAccumulatorNode::shutdownIfDone()
           if (launcher > 0)
           {
             ROS_INFO("scanhead: done, results in %s", out_.empty() ? "(no results folder)" : out_.c_str());
+            // Out now: a nodelet manager's stdout is a block-buffered pipe to roslaunch, which may kill it before
+            // it exits normally (the line would be lost on a loaded machine).
+            std::fflush(nullptr);
             if (::kill(launcher, SIGINT) == 0)
               return;
           }

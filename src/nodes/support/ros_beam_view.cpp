@@ -26,57 +26,49 @@ geometry_msgs::Point toPoint(double x, double y, double z)
 BeamView::BeamView(ros::NodeHandle& nh, const OpticalModel& optics, double rate_hz, double trail_s)
   : optics_(optics)
   , publisher_(nh.advertise<visualization_msgs::MarkerArray>("optics/beam", 1))
+  , period_(1.0 / rate_hz)
   , trail_s_(trail_s)
 {
-  timer_ = nh.createTimer(ros::Duration(1.0 / rate_hz), [this](const ros::TimerEvent&) { publish(); });
 }
 
 void BeamView::record(const JointChunk& joints, const SpotChunk& spots)
 {
   if (publisher_.getNumSubscribers() == 0 || joints.samples.empty())
     return;
-  const std::lock_guard<std::mutex> lock(mutex_);
-  angles_ = joints.samples.back().position;
-  laser_on_ = !spots.samples.empty() && spots.samples.back().power_w > 0.0;
   const std::size_t keep = static_cast<std::size_t>(trail_s_ / (kTrailStride * spots.period_s)) + 1;
   for (std::size_t k = 0; k < spots.samples.size(); ++k, ++trail_samples_)
     if (trail_samples_ % kTrailStride == 0)
       trail_.push_back(spots.samples[k].actual);
   while (trail_.size() > keep)
     trail_.pop_front();
-  fresh_ = true;
+  const ros::WallTime now = ros::WallTime::now();
+  if (now - last_publish_ < period_)
+    return;
+  last_publish_ = now;
+  publish(joints.samples.back().position, !spots.samples.empty() && spots.samples.back().power_w > 0.0);
 }
 
-void BeamView::publish()
+void BeamView::publish(const Eigen::Vector2d& angles, bool laser_on)
 {
-  if (publisher_.getNumSubscribers() == 0)
-    return;
   visualization_msgs::MarkerArray markers;
+  // The beam: 2 mm wide so that it shows at the head's scale; red with the laser on.
+  visualization_msgs::Marker beam = lineStripMarker("scanhead_base", "beam", 0, 2e-3, laser_on ? 1.0f : 0.6f,
+                                                    laser_on ? 0.1f : 0.6f, laser_on ? 0.1f : 0.6f);
+  try
   {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    if (!fresh_)
-      return;
-    fresh_ = false;
-    // The beam: 2 mm wide so that it shows at the head's scale; red with the laser on.
-    visualization_msgs::Marker beam = lineStripMarker("scanhead_base", "beam", 0, 2e-3, laser_on_ ? 1.0f : 0.6f,
-                                                      laser_on_ ? 0.1f : 0.6f, laser_on_ ? 0.1f : 0.6f);
-    try
-    {
-      for (const Eigen::Vector3d& p : optics_.beamPoints(angles_))
-        beam.points.push_back(toPoint(p.x(), p.y(), p.z()));
-    }
-    catch (const NumericalError&)
-    {
-      beam.points.clear();  // angles the beam cannot take (a diverging servo): no beam drawn
-    }
-    visualization_msgs::Marker trail = lineStripMarker("work_plane_defect", "spot_trail", 1, 1e-4, 1.0f, 0.9f, 0.2f);
-    for (const Eigen::Vector2d& p : trail_)
-      trail.points.push_back(toPoint(p.x(), p.y(), 2e-4));  // just above the energy map
-    if (!beam.points.empty())
-      markers.markers.push_back(beam);
-    if (trail.points.size() >= 2)
-      markers.markers.push_back(trail);
+    for (const Eigen::Vector3d& p : optics_.beamPoints(angles))
+      beam.points.push_back(toPoint(p.x(), p.y(), p.z()));
+    markers.markers.push_back(beam);
   }
+  catch (const NumericalError&)
+  {
+    // Angles the beam cannot take (a diverging servo): no beam drawn.
+  }
+  visualization_msgs::Marker trail = lineStripMarker("work_plane_defect", "spot_trail", 1, 1e-4, 1.0f, 0.9f, 0.2f);
+  for (const Eigen::Vector2d& p : trail_)
+    trail.points.push_back(toPoint(p.x(), p.y(), 2e-4));  // just above the energy map
+  if (trail.points.size() >= 2)
+    markers.markers.push_back(trail);
   if (!markers.markers.empty())
     publisher_.publish(markers);
 }
