@@ -15,6 +15,7 @@
 #include <system_error>
 
 #include "scanhead/common/errors.hpp"
+#include "scanhead/common/text_file.hpp"
 
 namespace scanhead
 {
@@ -70,12 +71,6 @@ int exchange(const fs::path& a, const fs::path& b)
 #else
   return static_cast<int>(syscall(SYS_renameat2, AT_FDCWD, a.c_str(), AT_FDCWD, b.c_str(), 1u << 1));
 #endif
-}
-
-void replaceAll(std::string& text, const std::string& from, const std::string& to)
-{
-  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
-    text.replace(at, from.size(), to);
 }
 }  // namespace
 

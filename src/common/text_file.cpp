@@ -19,6 +19,12 @@ std::string readFileOrEmpty(const std::string& path)
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+void replaceAll(std::string& text, const std::string& from, const std::string& to)
+{
+  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+}
+
 void writeTextFile(const std::string& path, const std::string& text)
 {
   writeFileBytes(path, text.data(), text.size());

@@ -25,12 +25,6 @@ namespace
 {
 constexpr double kViewPixels = 640.0;  ///< the render panel's smaller side in job_view.rviz.in's window [px]
 constexpr double kFill = 0.85;         ///< share of the view the job's box takes
-
-void replaceAll(std::string& text, const std::string& what, const std::string& with)
-{
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + with.size()))
-    text.replace(at, what.size(), with);
-}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -64,9 +58,9 @@ int main(int argc, char** argv)
     ROS_ERROR("rviz_job_view: cannot read ~template '%s' (rviz/job_view.rviz.in)", template_path.c_str());
     return 1;
   }
-  replaceAll(text, "@VIEW_X@", std::to_string(0.5 * (lo.x() + hi.x())));
-  replaceAll(text, "@VIEW_Y@", std::to_string(0.5 * (lo.y() + hi.y())));
-  replaceAll(text, "@VIEW_SCALE@", std::to_string(scale));
+  scanhead::replaceAll(text, "@VIEW_X@", std::to_string(0.5 * (lo.x() + hi.x())));
+  scanhead::replaceAll(text, "@VIEW_Y@", std::to_string(0.5 * (lo.y() + hi.y())));
+  scanhead::replaceAll(text, "@VIEW_SCALE@", std::to_string(scale));
   const char* ros_home = std::getenv("ROS_HOME");
   const char* home = std::getenv("HOME");
   const std::string path =

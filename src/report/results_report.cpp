@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <numeric>
 
+#include "scanhead/common/number_text.hpp"
 #include "scanhead/common/text_file.hpp"
 #include "scanhead/report/html_page.hpp"
 
@@ -20,11 +20,7 @@ namespace fs = std::filesystem;
 /// \brief \p value with \p digits significant digits ("-" for NaN).
 std::string num(double value, int digits = 4)
 {
-  if (std::isnan(value))
-    return "-";
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*g", digits, value);
-  return text;
+  return std::isnan(value) ? "-" : significantText(value, digits);
 }
 
 std::string count(std::uint64_t value)

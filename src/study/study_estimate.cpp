@@ -26,7 +26,7 @@ StudyEstimate estimateStudy(const std::vector<StudyCase>& cases, const std::vect
   StudyEstimate estimate;
   struct PerJob
   {
-    double machine_s = 0.0, wall_s = 0.0, program_s = 0.0, setup_s = 0.0;  ///< its run plan's
+    RunPlan plan;                      ///< of the job (a layered file: of its first layer)
     std::vector<double> layer_path_s;  ///< a layered file: every layer's path time (its survey)
     bool ok = false;
   };
@@ -45,9 +45,7 @@ StudyEstimate estimateStudy(const std::vector<StudyCase>& cases, const std::vect
         ChainConfig config = chainConfigFromFlat(flattenYaml(c.config_yaml, c.id));
         config.cam.layer = c.layer >= 0 ? 0 : config.cam.layer;
         const Job job = loadJob(c.job, config.cam);
-        const RunPlan plan = planRun(config, job, loadOpticalModel(config.optics));
-        p = {plan.machine_time_s, plan.wall_time_s,      plan.program_duration_s,
-             plan.setup_wall_s,   job.file.layer_path_s, true};
+        p = {planRun(config, job, loadOpticalModel(config.optics)), job.file.layer_path_s, true};
       }
       catch (const std::exception&)
       {
@@ -68,9 +66,12 @@ StudyEstimate estimateStudy(const std::vector<StudyCase>& cases, const std::vect
     const double ratio = c.layer >= 0 && layer < p.layer_path_s.size() && p.layer_path_s[0] > 0.0
                              ? p.layer_path_s[layer] / p.layer_path_s[0]
                              : 1.0;
-    const double machine_s = p.machine_s + p.program_s * (ratio - 1.0);
+    const RunPlan& first = p.plan;
+    const double machine_s = first.machine_time_s + first.program_duration_s * (ratio - 1.0);
     estimate.machine_time_s += machine_s;
-    estimate.wall_time_s += p.setup_s + (p.wall_s - p.setup_s) * (p.machine_s > 0.0 ? machine_s / p.machine_s : 1.0);
+    estimate.wall_time_s +=
+        first.setup_wall_s + (first.wall_time_s - first.setup_wall_s) *
+                                 (first.machine_time_s > 0.0 ? machine_s / first.machine_time_s : 1.0);
   }
   return estimate;
 }
