@@ -14,12 +14,15 @@ namespace
 {
 constexpr const char* kPresetList = "job, custom, thesis1, thesis2, thesis3";
 
-/// THESIS laser delays (SPEC §2.5, THESIS §2.6): industrial tuning for recipes 1 and 2, retuned
-/// for the faster recipe 3 [s].
-constexpr double kThesisOnDelay12_s = 395e-6;
-constexpr double kThesisOffDelay12_s = 107e-6;
-constexpr double kThesisOnDelay3_s = 341e-6;
-constexpr double kThesisOffDelay3_s = 53e-6;
+/// THESIS laser delays [s] (SPEC §2.5): the industrial tuning of recipe 1, and the values the THESIS
+/// retuned with its simulator for the uniform-speed recipe 2 (§2.6.1: "les délais ... doivent être
+/// réglés selon ce nouveau paramétrage", 341 µs and 53 µs). Recipe 3 (chapter 3) was retuned too but
+/// its values are not printed: it keeps recipe 2's, since the delays make up for the galvos' time lag,
+/// which does not depend on the speed.
+constexpr double kThesisOnDelay1_s = 395e-6;
+constexpr double kThesisOffDelay1_s = 107e-6;
+constexpr double kThesisOnDelay23_s = 341e-6;
+constexpr double kThesisOffDelay23_s = 53e-6;
 constexpr double kThesisPower_w = 200.0;
 constexpr const char* kMaxPowerText =
     "<= 1e+06 W (no continuous-wave laser reaches it; LPBF: 200 W - 1 kW)";  ///< thesis_square_job.hpp: 200 W on every
@@ -82,8 +85,8 @@ Recipe resolveRecipe(const RecipeConfig& config)
     r.contour_jump_speed_mps = speeds.contour_jump_speed_mps;
     r.contour_power_w = kThesisPower_w;
     r.hatch_power_w = kThesisPower_w;
-    r.laser_on_delay_s = thesis == 3 ? kThesisOnDelay3_s : kThesisOnDelay12_s;
-    r.laser_off_delay_s = thesis == 3 ? kThesisOffDelay3_s : kThesisOffDelay12_s;
+    r.laser_on_delay_s = thesis == 1 ? kThesisOnDelay1_s : kThesisOnDelay23_s;
+    r.laser_off_delay_s = thesis == 1 ? kThesisOffDelay1_s : kThesisOffDelay23_s;
     return r;
   }
   if (config.preset != "job" && config.preset != "custom")

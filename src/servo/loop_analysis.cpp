@@ -256,6 +256,7 @@ LoopTargets LoopTargets::scaled(double k) const
   t.current_crossover_rad_s *= k;
   t.speed_crossover_rad_s *= k;
   t.position_crossover_rad_s *= k;
+  t.speed_integral_time_s /= k;  // a time of the loop's shape: ∝ 1/ωc
   return t;
 }
 
@@ -279,7 +280,12 @@ CascadeGains synthesiseGains(const GalvoPlantParams& plant, const LoopTargets& t
     const Complex s(0.0, wc);
     const Complex li = l.currentOpenLoop(wc);
     const Complex h = li / (1.0 + li) * l.speedPerCurrent(wc);
-    g.tiw_s = integralTime(wc, std::arg(h), targets.speed_margin_deg);
+    g.tiw_s = targets.speed_integral_time_s > 0.0 ? targets.speed_integral_time_s
+                                                  : integralTime(wc, std::arg(h), targets.speed_margin_deg);
+    if (targets.speed_integral_time_s > 0.0 && integralTime(wc, std::arg(h), targets.speed_margin_deg) > g.tiw_s)
+    {
+      throw NumericalError("synthesiseGains: the given speed integral time leaves less than the speed phase margin");
+    }
     g.kiw = 1.0 / std::abs(pi(1.0, g.tiw_s, s) * h);
   }
   // Position loop on T_ω/s, PD on the decreasing branch of its lead.

@@ -49,7 +49,8 @@ scanhead::Polyline jump(std::vector<Eigen::Vector2d> points)
 }  // namespace
 
 // THESIS recipes (SPEC §5, THESIS §2.6): speeds as thesisRecipe, 200 W, delays 395/107 µs for
-// recipes 1-2 and 341/53 µs for recipe 3. Exact: the values are copied, never computed.
+// recipe 1 and 341/53 µs (retuned for the uniform speeds, §2.6.1) for recipes 2 and 3.
+// Exact: the values are copied, never computed.
 TEST(Recipe, ThesisPresets)
 {
   struct Expected
@@ -59,7 +60,7 @@ TEST(Recipe, ThesisPresets)
   };
   const Expected cases[] = {
       {"thesis1", 1.5, 1.0, 4.5, 6.0, 395e-6, 107e-6},
-      {"thesis2", 1.5, 1.5, 6.0, 6.0, 395e-6, 107e-6},
+      {"thesis2", 1.5, 1.5, 6.0, 6.0, 341e-6, 53e-6},
       {"thesis3", 3.0, 3.0, 12.0, 12.0, 341e-6, 53e-6},
   };
   for (const Expected& e : cases)

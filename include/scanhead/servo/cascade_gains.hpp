@@ -17,10 +17,10 @@ struct CascadeGains
 {
   double kii = 1.76159;          ///< Kii, current PI gain [V/A]
   double tii_s = 7.05149e-5;     ///< Tii, current PI integral time [s]
-  double kiw = 0.0417302;        ///< Kiω, speed PI gain [A/(rad/s)]
-  double tiw_s = 2.30919e-3;     ///< Tiω, speed PI integral time [s]
-  double ktheta = 32.1200;       ///< Kθ, position PD gain [(rad/s)/rad]
-  double tdtheta_s = 0.0823501;  ///< Tdθ, position PD derivative time [s] (filter Tdθ/100)
+  double kiw = 0.0418529;        ///< Kiω, speed PI gain [A/(rad/s)]
+  double tiw_s = 5.0e-3;         ///< Tiω, speed PI integral time [s]
+  double ktheta = 33.4352;       ///< Kθ, position PD gain [(rad/s)/rad]
+  double tdtheta_s = 0.0857140;  ///< Tdθ, position PD derivative time [s] (filter Tdθ/100)
   double tauf_s = 1.0e-5;        ///< τf, feedforward derivative filter [s]
   double k1 = 1.0;               ///< K1, speed feedforward weight (THESIS: 1)
   double k2 = 1.0;               ///< K2, current feedforward weight (THESIS: 1)

@@ -23,7 +23,7 @@ struct GalvoPlantParams
   double inertia_kgm2 = 2.0e-7;             ///< Jeq, rotor + mirror [kg·m²]
   double viscous_nms = 2.0e-6;              ///< B [N·m·s/rad]
   double offset_torque_nm = 1.0e-6;         ///< Tp [N·m] (galvo_params.hpp)
-  double coulomb_torque_nm = 1.206e-5;      ///< Tc [N·m] (fitted: galvo_params.hpp)
+  double coulomb_torque_nm = 2.1e-6;        ///< Tc [N·m] (fitted: galvo_params.hpp)
   double mode_gain = 4800.0;                ///< Kr of the flexible mode [rad/s² per A]
   double mode_damping = 0.02;               ///< ξr
   double mode_frequency_hz = 5500.0;        ///< ωres / 2π [Hz]

@@ -107,22 +107,40 @@ struct LoopTargets
   double current_crossover_rad_s = 1.0e4;
   double current_margin_deg = 65.0;
   double speed_crossover_rad_s = 5000.0;
-  double speed_margin_deg = 65.0;
+  double speed_margin_deg = 65.0;  ///< the speed PI's target when speed_integral_time_s = 0, else its floor
+  /// Tiω given instead of found from the margin [s] (0: from speed_margin_deg). The THESIS's refinement
+  /// (§2.2.2, Tableau 2.1) set it to 0.005 s on Y, the margin rule's 0.04 s being "not fast enough"
+  /// against the dry friction; this project's stored gains use it (issue 15's fit, README "Servo friction").
+  double speed_integral_time_s = 0.0;
   double position_crossover_rad_s = 3000.0;
   double position_margin_deg = 75.0;
-  /// \brief All three crossovers multiplied by \p k (margins kept).
+  /// \brief All three crossovers multiplied by \p k, a given Tiω divided by it (margins kept).
   LoopTargets scaled(double k) const;
 };
+
+/// \brief The THESIS's refined speed-loop integral time on Y (Tableau 2.1) [s].
+constexpr double kThesisSpeedIntegralTime_s = 0.005;
+
+/// \brief The targets of the stored gains (galvo_params.hpp) for the Y axis: the default crossovers and
+/// margins with the THESIS's refined Tiω; X uses them scaled by kGalvoXCrossoverScale.
+inline LoopTargets storedGainTargets()
+{
+  LoopTargets t;
+  t.speed_integral_time_s = kThesisSpeedIntegralTime_s;
+  return t;
+}
 
 /// \brief Frequency synthesis of the THESIS (§2.2.2.2), in closed form per loop, inner to outer,
 /// each on the model with the loops inside it closed and the sampling delay Tc/2:
 /// PI: the integral time sets the margin, \f$\arg REG(j\omega_c) = -\arctan\frac{1}{\omega_c T_i}
-/// = \Delta\Phi - 180° - \arg H(j\omega_c)\f$ (Ti = ∞ if the plant alone has more margin), then
+/// = \Delta\Phi - 180° - \arg H(j\omega_c)\f$ (Ti = ∞ if the plant alone has more margin), unless the
+/// speed PI's is given (LoopTargets::speed_integral_time_s); then
 /// \f$K = 1/|(1 + 1/(j\omega_c T_i))H(j\omega_c)|\f$ puts the crossover at ωc.
 /// PD: Tdθ by bisection on the phase lead \f$\arg(1 + T_d j\omega_c/(1 + T_d j\omega_c/100))\f$ on its
 /// decreasing branch (Tdθ ≥ 1/(0.1005 ωc), past the lead maximum — the THESIS's solution, Tdθ ≈ 0.1 s),
 /// then Kθ for |L_θ(jωc)| = 1. τf, K1, K2 are copied from \p base.
-/// \throws NumericalError if a target is unreachable
+/// \throws NumericalError if a target is unreachable, or a given Tiω leaves the speed loop less than
+/// speed_margin_deg
 CascadeGains synthesiseGains(const GalvoPlantParams& plant, const LoopTargets& targets, double controller_period_s,
                              const CascadeGains& base = CascadeGains{});
 

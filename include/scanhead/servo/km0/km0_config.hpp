@@ -61,20 +61,20 @@ struct Km0Limit
 struct Km0Thresholds
 {
   // small steps (speed not saturated)
-  Km0Limit small_start_delay_s{5.8e-5, 9.7e-5};
-  Km0Limit small_overshoot_pct{10.7, 20.7};
+  Km0Limit small_start_delay_s{5.8e-5, 9.6e-5};
+  Km0Limit small_overshoot_pct{10.8, 20.8};
   Km0Limit small_settling_time_s{6.7e-4, 1.1e-3};
   Km0Limit small_static_error_deg{1.0e-3, 5.0e-3};
   // large steps (speed saturated)
-  Km0Limit large_start_delay_s{3.0e-5, 5.1e-5};
+  Km0Limit large_start_delay_s{3.1e-5, 5.1e-5};
   Km0Limit large_overshoot_pct{5.8, 15.8};
   Km0Limit large_settling_excess_s{2.0e-4, 5.0e-4};  ///< settling time − |A|/max_speed [s]
-  Km0Limit large_static_error_deg{1.7e-3, 5.0e-3};
+  Km0Limit large_static_error_deg{1.1e-3, 5.0e-3};
   // ramps
-  Km0Limit ramp_lag_s{6.0e-5, 1.0e-4};              ///< following error / speed [s]
-  Km0Limit ramp_speed_error_pct{0.5, 2.0};          ///< |steady − commanded| / commanded [%]
-  Km0Limit ramp_speed_settling_s{8.7e-4, 1.45e-3};  ///< ±5 % speed settling from the ramp start [s]
-  Km0Limit ramp_friction_excess_pct{25.0, 60.0};    ///< (Kc·i − baseline(ω)) / baseline reference [%]
+  Km0Limit ramp_lag_s{1.6e-5, 2.7e-5};             ///< following error / speed [s]
+  Km0Limit ramp_speed_error_pct{0.5, 2.0};         ///< |steady − commanded| / commanded [%]
+  Km0Limit ramp_speed_settling_s{5.3e-4, 8.9e-4};  ///< ±5 % speed settling from the ramp start [s]
+  Km0Limit ramp_friction_excess_pct{25.0, 60.0};   ///< (Kc·i − baseline(ω)) / baseline reference [%]
 
   void validate() const;
 };
@@ -85,8 +85,8 @@ struct Km0FrictionBaseline
 {
   bool from_servo = true;              ///< take B, Tp, Tc of the simulated axis (the values below ignored)
   double viscous_nms = 2.0e-6;         ///< B [N·m·s/rad] (the default galvos' value, galvo_params.hpp)
-  double offset_torque_nm = 1.0e-5;    ///< Tp [N·m]
-  double coulomb_torque_nm = 3.0e-5;   ///< Tc [N·m]
+  double offset_torque_nm = 1.0e-6;    ///< Tp [N·m]
+  double coulomb_torque_nm = 2.1e-6;   ///< Tc [N·m]
   double reference_floor_nm = 1.0e-6;  ///< denominator floor of the friction excess [N·m]
 
   void validate() const;
