@@ -75,10 +75,16 @@ double unwrappedPhaseDeg(const std::function<Complex(double)>& f, double w_lo, d
   return phase * 180.0 / kPi;
 }
 
+/// \brief The phase the controller may take at the crossover for \p margin_deg, given the loop's other phase.
+double allowedControllerPhase(double other_phase_rad, double margin_deg)
+{
+  return margin_deg * kPi / 180.0 - kPi - other_phase_rad;
+}
+
 /// \brief Angle of the PI's zero that leaves \p margin_deg at wc given the loop's other phase.
 double integralTime(double wc, double other_phase_rad, double margin_deg)
 {
-  const double need = margin_deg * kPi / 180.0 - kPi - other_phase_rad;  // arg REG required (≤ 0)
+  const double need = allowedControllerPhase(other_phase_rad, margin_deg);  // arg REG required (≤ 0)
   if (need >= 0.0)
   {
     return 1e9;  // the plant alone has more margin: integral action negligible at wc (Ti = 1e9 s)
@@ -280,11 +286,18 @@ CascadeGains synthesiseGains(const GalvoPlantParams& plant, const LoopTargets& t
     const Complex s(0.0, wc);
     const Complex li = l.currentOpenLoop(wc);
     const Complex h = li / (1.0 + li) * l.speedPerCurrent(wc);
-    g.tiw_s = targets.speed_integral_time_s > 0.0 ? targets.speed_integral_time_s
-                                                  : integralTime(wc, std::arg(h), targets.speed_margin_deg);
-    if (targets.speed_integral_time_s > 0.0 && integralTime(wc, std::arg(h), targets.speed_margin_deg) > g.tiw_s)
+    if (targets.speed_integral_time_s > 0.0)
     {
-      throw NumericalError("synthesiseGains: the given speed integral time leaves less than the speed phase margin");
+      g.tiw_s = targets.speed_integral_time_s;
+      // The PI's phase at wc, −atan(1/(wc Ti)), must leave at least the margin.
+      if (-std::atan(1.0 / (wc * g.tiw_s)) < allowedControllerPhase(std::arg(h), targets.speed_margin_deg))
+      {
+        throw NumericalError("synthesiseGains: the given speed integral time leaves less than the speed phase margin");
+      }
+    }
+    else
+    {
+      g.tiw_s = integralTime(wc, std::arg(h), targets.speed_margin_deg);
     }
     g.kiw = 1.0 / std::abs(pi(1.0, g.tiw_s, s) * h);
   }
@@ -295,7 +308,7 @@ CascadeGains synthesiseGains(const GalvoPlantParams& plant, const LoopTargets& t
     const Complex s(0.0, wc);
     const Complex lw = l.speedOpenLoop(wc);
     const Complex h = lw / (1.0 + lw) / s;
-    const double need = targets.position_margin_deg * kPi / 180.0 - kPi - std::arg(h);
+    const double need = allowedControllerPhase(std::arg(h), targets.position_margin_deg);
     double lo = 1.0 / (0.1005 * wc);  // lead maximum (zero 1.01 Td, pole Td/100: ω = 1/(Td √(1.01·0.01)))
     double hi = 1e3;
     const auto lead = [&](double td) { return std::arg(pd(1.0, td, s)); };
