@@ -29,16 +29,16 @@ TEST(ThesisLayer, ContourSharesMatchTableau31)
   {
     int recipe;
     const char* controller;
-    Cell under10, under20, under30, fill;
+    Cell cells[4];  // contours < 10, < 20, < 30 µm, fill rate
   };
   // clang-format off
   const Row rows[] = {  // bounds > 3 points: the cells that resist, the fit's deviation + 1 point
-      {1, "pd",   {93.51, 4.5}, {98.30, 3.0}, {99.32, 3.0}, {97.16, 5.0}},  // fit: +3.45
-      {1, "hinf", {93.67, 4.8}, {98.66, 3.0}, {99.68, 3.0}, {98.06, 5.0}},  // fit: +3.78
-      {2, "pd",   {93.53, 4.5}, {96.94, 3.0}, {99.36, 3.0}, {96.75, 5.0}},  // fit: +3.46
-      {2, "hinf", {95.17, 3.0}, {96.37, 3.0}, {99.02, 3.0}, {98.09, 5.0}},
-      {3, "pd",   {87.58, 3.0}, {91.56, 5.1}, {94.67, 3.0}, {91.33, 5.5}},  // fit: +4.05 under 20 um, fill +4.52
-      {3, "hinf", {91.67, 6.8}, {93.73, 3.0}, {95.38, 3.0}, {91.55, 5.4}},  // fit: -5.79 under 10 um, fill +4.40
+      {1, "pd",   {{93.51, 4.5}, {98.30, 3.0}, {99.32, 3.0}, {97.16, 5.0}}},  // fit: +3.45
+      {1, "hinf", {{93.67, 4.8}, {98.66, 3.0}, {99.68, 3.0}, {98.06, 5.0}}},  // fit: +3.78
+      {2, "pd",   {{93.53, 4.5}, {96.94, 3.0}, {99.36, 3.0}, {96.75, 5.0}}},  // fit: +3.46
+      {2, "hinf", {{95.17, 3.0}, {96.37, 3.0}, {99.02, 3.0}, {98.09, 5.0}}},
+      {3, "pd",   {{87.58, 3.0}, {91.56, 5.1}, {94.67, 3.0}, {91.33, 5.5}}},  // fit: +4.05 under 20 um, fill +4.52
+      {3, "hinf", {{91.67, 6.8}, {93.73, 3.0}, {95.38, 3.0}, {91.55, 5.4}}},  // fit: -5.79 under 10 um, fill +4.40
   };
   // clang-format on
   constexpr int kHinfBetterCells = 7;  // of the 10 where the thesis finds H∞ better (fit_servo_friction.py)
@@ -56,23 +56,19 @@ TEST(ThesisLayer, ContourSharesMatchTableau31)
     ours[i][3] = 100 * run.metrics.quality.fill_rate;
     std::printf(
         "recipe %d %-4s: contours < 10/20/30 um %.2f %.2f %.2f %% (THESIS %.2f %.2f %.2f), fill %.2f %% (%.2f)\n",
-        t.recipe, t.controller, ours[i][0], ours[i][1], ours[i][2], t.under10.thesis, t.under20.thesis,
-        t.under30.thesis, ours[i][3], t.fill.thesis);
-    const Cell* cells[4] = {&t.under10, &t.under20, &t.under30, &t.fill};
+        t.recipe, t.controller, ours[i][0], ours[i][1], ours[i][2], t.cells[0].thesis, t.cells[1].thesis,
+        t.cells[2].thesis, ours[i][3], t.cells[3].thesis);
     for (int k = 0; k < 4; ++k)
     {
-      EXPECT_NEAR(ours[i][k], cells[k]->thesis, cells[k]->bound) << spec << " " << t.controller << " figure " << k;
+      EXPECT_NEAR(ours[i][k], t.cells[k].thesis, t.cells[k].bound) << spec << " " << t.controller << " figure " << k;
     }
   }
-  int better = 0;
+  int better = 0;  // rows 2r and 2r + 1: recipe r + 1 with pd, then with hinf
   for (int r = 0; r < 3; ++r)
   {
-    const Row* tables[2] = {&rows[2 * r], &rows[2 * r + 1]};  // pd, hinf
-    const Cell* pd[4] = {&tables[0]->under10, &tables[0]->under20, &tables[0]->under30, &tables[0]->fill};
-    const Cell* hinf[4] = {&tables[1]->under10, &tables[1]->under20, &tables[1]->under30, &tables[1]->fill};
     for (int k = 0; k < 4; ++k)
     {
-      better += hinf[k]->thesis > pd[k]->thesis && ours[2 * r + 1][k] > ours[2 * r][k];
+      better += rows[2 * r + 1].cells[k].thesis > rows[2 * r].cells[k].thesis && ours[2 * r + 1][k] > ours[2 * r][k];
     }
   }
   std::printf("H-infinity better than pd in %d of the cells where the THESIS finds it better\n", better);
