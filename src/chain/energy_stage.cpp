@@ -244,7 +244,7 @@ RunMetrics EnergyStage::finish()
   // The layer metrics' last pass (the nearest-path index over the whole path) needs no map: it runs
   // on the second core while this one reads the map for the energy figures.
   auto quality = std::async(config_.stream.threads < 2 ? std::launch::deferred : std::launch::async,
-                            [this] { return quality_.finish(); });
+                            [this] { return quality_.finish(static_cast<unsigned>(config_.stream.threads)); });
   accumulator_.finish();
   RunMetrics m;
   m.job_name = job_name_;

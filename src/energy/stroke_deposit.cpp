@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "gauss_legendre.hpp"
 #include "lane_math.hpp"
 #include "row_kernels.hpp"
 #include "scanhead/energy/segment_integral.hpp"
@@ -16,10 +17,9 @@ namespace
 {
 constexpr double kErfSaturated = 6.0;  // erf(±6) = ±1 in double (erfc 6 = 2.2e-17 < half an ulp of 1)
 
-// √A up to this: the erf difference by 4-point Gauss–Legendre, one exponential a pixel instead of the erf form's
-// exponential and two erfs (error ≤ 9.5e-7·√A⁹: measured worst over u, 9.2e-7 of the stroke's peak bracket at √A = 1,
-// 3.7e-9 at 0.5: no more than the lane erf's 4e-6). √A = 1 is 25 µm at w = 35 µm: 2-sample strokes at 1 m/s.
-constexpr double kShortStroke = 1.0;
+// √A up to this: the erf difference by Gauss–Legendre quadrature over the stroke's bounding rectangle
+// (quadratureRectangle), beyond by the erf form on the capsule's rows (erfRowLanes). See bracketRuleNodes.
+constexpr double kQuadratureStroke = 6.0;
 
 /// Blocks between two exact evaluations of GaussianSteps (bounds the growth of the products' rounding).
 constexpr int kAnchorBlocks = 8;
@@ -49,6 +49,14 @@ struct GaussianSteps
     , du(u_step)
     , q(energy_detail::splat(q_block))
   {
+  }
+  /// \brief Starts the row from a known first block: \p e_first = e^{−Q} at its lanes, \p r_first = e^{−D} (the row's
+  /// first anchor then costs no exponential; kAnchorBlocks blocks on, the row anchors itself as usual).
+  SCANHEAD_LANE_INLINE void start(energy_detail::F8 e_first, energy_detail::F8 r_first)
+  {
+    e = e_first;
+    r = r_first;
+    left = kAnchorBlocks;
   }
   /// \brief The lanes of the block starting at column \p k0 (blocks in order, 8 columns apart; the row's last block
   /// starts before \p end).
@@ -138,53 +146,243 @@ __attribute__((target_clones("avx2", "default"))) double rowGaussianLanes(const 
   return laneSum(total);
 }
 
-/// \brief A short stroke along a row: s_k = s0 + k·ds, u_k = u0 + k·du, and the 4-point Gauss–Legendre form
-/// W = Σ_i a_i·exp(−s² − (u − c_i)²), c_i = √A·τ_i, a_i = (2/√π)·√A·w_i.
-struct ShortRow
+/// \brief A stroke of √A ≤ kQuadratureStroke on the rectangle of pixels that bounds its capsule, for
+/// quadratureRectangle. With the Gauss–Legendre nodes c_i = √A(τ_i − ½) and the stroke's coordinates centred on its
+/// midpoint (s across, u' = u − √A/2 along, both linear in the pixel's row and column),
+/// W = Σ_i a_i·e^{−s² − (u' − c_i)²} = e^{−s² − u'²}·Σ_i [a_i e^{2c_i u'_0 − c_i²}]·e^{2c_i du·k}, a_i = (2/√π)√A·w_i,
+/// u'_0 at the row's first column: a Gaussian (GaussianSteps) times a sum of geometric sequences along each row.
+struct QuadratureStroke
 {
-  double s0 = 0.0, ds = 0.0, u0 = 0.0, du = 0.0;
-  double c[4] = {}, a[4] = {};
-  // The same on every row of a stroke (computed once a stroke):
-  float lanes[4][8] = {};  ///< e^{2c_i·du·l}, l = 0..7
-  float advance[4] = {};   ///< e^{16 c_i du}
-  float gauss_q = 0.0f;    ///< gaussianRatio(ds, du)
+  static constexpr int kMaxNodes = 14;
+  int nodes = 4;
+  // The first row's first column, and the steps per column and per row:
+  double s0 = 0.0, u0 = 0.0, ds = 0.0, du = 0.0, ds_row = 0.0, du_row = 0.0;  ///< s and u'
+  double along0 = 0.0, across0 = 0.0;  ///< the pixel centre's offset from the stroke's start, along and across it [px]
+  double along_step = 0.0, across_step = 0.0, along_row = 0.0, across_row = 0.0;  ///< per column, per row [px]
+  float length_px = 0.0f, radius2_px = 0.0f;  ///< the capsule: segment length and truncation radius² [px, px²]
+  double factor[kMaxNodes] = {};              ///< a_i e^{2c_i u'_0 − c_i²} on the first row
+  double factor_row[kMaxNodes] = {};          ///< e^{2c_i du_row}: one row further
+  float lanes[kMaxNodes][8] = {};             ///< e^{2c_i du·l}, l = 0..7
+  float advance[kMaxNodes] = {};              ///< e^{16 c_i du}: one block further
+  float gauss_q = 0.0f;                       ///< gaussianRatio(ds, du)
 };
 
-/// \brief w[k] for the ShortRow, k < n rounded up to a multiple of 8.
-///
-/// s² + (u − c)² = (s² + u²) − 2cu + c², so W = exp(−s² − u²)·Σ_i a_i e^{−c_i²}·e^{2c_i u}: the common Gaussian by
-/// GaussianSteps, and each node's e^{2c_i u_k} = [a_i e^{2c_i u0 − c_i²}]·e^{2c_i du·l}·e^{16 c_i du·b} (block b, lane
-/// l): one scalar exponential a node a row, the lane and block factors once a stroke (relative error ~1e-7 a block;
-/// a short stroke's row has ≤ (2R + √A·w)/p pixels, a few blocks). With √A ≤ 1 (kShortStroke) |2c_i u| ≤ 2|u|, a
-/// few units in the capsule: far inside float's range.
-__attribute__((target_clones("avx2", "default"))) double shortRowLanes(const ShortRow& r, int n, float* w)
+/// Rows between two exact evaluations of the Gaussian's first block (bounds the growth of the products' rounding).
+constexpr int kAnchorRows = 8;
+
+/// \brief e^{−x} at 8 lanes from exponents in double, split into float hi + lo: e^{−hi}·(1 − lo) (|lo| ≤ 2e-6, so the
+/// first order is exact to 2e-12). Rounding the argument itself to float would cost |x|·6e-8 relative, 3e-6 at the
+/// |x| ≈ 50 a stroke's rectangle reaches where the nodes' factors make the product large; this keeps expNeg's 2 ulp.
+SCANHEAD_LANE_INLINE energy_detail::F8 expNegSplit(const double (&x)[8])
 {
   using namespace energy_detail;
-  F8 total = splat(0.0f);
-  // a_i·e^{2c_i u0 − c_i²} of the four nodes in the first lanes of one exponential (arguments rounded once).
-  const F8 row_factors =
-      expNeg(F8{static_cast<float>(r.c[0] * (r.c[0] - 2.0 * r.u0)), static_cast<float>(r.c[1] * (r.c[1] - 2.0 * r.u0)),
-                static_cast<float>(r.c[2] * (r.c[2] - 2.0 * r.u0)), static_cast<float>(r.c[3] * (r.c[3] - 2.0 * r.u0)),
-                0.0f, 0.0f, 0.0f, 0.0f});
-  F8 node[4], advance[4];
-#pragma GCC unroll 4
-  for (int i = 0; i < 4; ++i)
+  F8 hi, lo;
+  for (int l = 0; l < 8; ++l)
   {
-    F8 lanes;
-    std::memcpy(&lanes, r.lanes[i], sizeof lanes);
-    node[i] = splat(static_cast<float>(r.a[i]) * row_factors[i]) * lanes;
-    advance[i] = splat(r.advance[i]);
+    hi[l] = static_cast<float>(x[l]);
+    lo[l] = static_cast<float>(x[l] - static_cast<double>(hi[l]));
   }
-  GaussianSteps gaussian(r.s0, r.ds, r.u0, r.du, r.gauss_q);
-  for (int k0 = 0; k0 < n; k0 += 8)
+  return expNeg(hi) * (splat(1.0f) - lo);
+}
+
+/// \brief w[k·n + j] for the rows k < rows and columns j < n (each row rounded up to a multiple of 8 from its start:
+/// w has room for the last row's excess), the rows' sums in \p row_sums. \tparam N nodes.
+///
+/// Along a row: the Gaussian by GaussianSteps, each node's factor a product (relative error ~6e-8 a block), 0 outside
+/// the capsule (pixel centres within R of the segment: the truncation of the other methods). From row to row:
+/// Q(k + 1, l) − Q(k, l) = 2(s_k Δs + u'_k Δu) + Δs² + Δu² + 2l(ds Δs + du Δu) is linear in k, so the first block's
+/// e^{−Q}, GaussianSteps' ratio e^{−D} and the nodes' factors follow by products too (V ← V·c_V), anchored every
+/// kAnchorRows rows by exact exponentials: one exponential argument rounded per anchor, as GaussianSteps along a row
+/// (error ≤ ~2·kAnchorRows·6e-8 relative to the value, ~1e-6 of the stroke's peak: test_stroke_deposit.cpp).
+template <int N>
+SCANHEAD_LANE_INLINE void quadratureRows(const QuadratureStroke& q, int rows, int n, float* w, double* row_sums)
+{
+  using namespace energy_detail;
+  const F8 lane = laneIndex();
+  const double a = q.ds * q.ds + q.du * q.du, a_row = q.ds_row * q.ds_row + q.du_row * q.du_row;
+  const double cross = q.ds * q.ds_row + q.du * q.du_row;
+  const F8 c_v = splat(static_cast<float>(std::exp(-2.0 * a_row)));
+  const F8 c_r = splat(static_cast<float>(std::exp(-16.0 * cross)));
+  const F8 along_step = splat(static_cast<float>(q.along_step)), across_step = splat(static_cast<float>(q.across_step));
+  const F8 along_block = splat(static_cast<float>(8.0 * q.along_step));
+  const F8 across_block = splat(static_cast<float>(8.0 * q.across_step));
+  const F8 zero = splat(0.0f), length = splat(q.length_px), radius2 = splat(q.radius2_px);
+  F8 gauss_e = zero, gauss_r = zero, gauss_v = zero;
+  double factor[N];
+  for (int i = 0; i < N; ++i)
+    factor[i] = q.factor[i];
+  for (int k = 0; k < rows; ++k)
   {
-    const F8 value = gaussian.next(k0, n) * ((node[0] + node[1]) + (node[2] + node[3]));
-    std::memcpy(w + k0, &value, sizeof value);
-    accumulate(total, value, n - k0);
-    for (int i = 0; i < 4; ++i)
-      node[i] *= advance[i];
+    const double s0 = q.s0 + k * q.ds_row, u0 = q.u0 + k * q.du_row;
+    if (k % kAnchorRows == 0)
+    {
+      // Q, GaussianSteps' D = Q(l + 8) − Q(l) and the row step ΔQ at the lanes, in double.
+      double q_lanes[8], d_lanes[8], v_lanes[8];
+      for (int l = 0; l < 8; ++l)
+      {
+        const double sl = s0 + l * q.ds, ul = u0 + l * q.du;
+        q_lanes[l] = sl * sl + ul * ul;
+        d_lanes[l] = 16.0 * (sl * q.ds + ul * q.du) + 64.0 * a;
+        v_lanes[l] = 2.0 * (sl * q.ds_row + ul * q.du_row) + a_row;
+      }
+      gauss_e = expNegSplit(q_lanes);
+      gauss_r = expNegSplit(d_lanes);
+      gauss_v = expNegSplit(v_lanes);
+    }
+    else
+    {
+      gauss_e = gauss_e * gauss_v;
+      gauss_v = gauss_v * c_v;
+      gauss_r = gauss_r * c_r;
+    }
+    F8 node[N];
+#pragma GCC unroll 14
+    for (int i = 0; i < N; ++i)
+    {
+      F8 lanes;
+      std::memcpy(&lanes, q.lanes[i], sizeof lanes);
+      node[i] = splat(static_cast<float>(factor[i])) * lanes;
+      factor[i] *= q.factor_row[i];  // the next row's (double)
+    }
+    // The capsule's coordinates at the lanes, in pixels (float, stepped a block at a time: ≤ ~1e-5 px off at a row's
+    // end, immaterial to the truncation).
+    F8 along = splat(static_cast<float>(q.along0 + k * q.along_row)) + along_step * lane;
+    F8 across = splat(static_cast<float>(q.across0 + k * q.across_row)) + across_step * lane;
+    GaussianSteps gaussian(s0, q.ds, u0, q.du, q.gauss_q);
+    gaussian.start(gauss_e, gauss_r);
+    float* row = w + static_cast<std::size_t>(k) * static_cast<std::size_t>(n);
+    F8 total = zero;
+    for (int k0 = 0; k0 < n; k0 += 8)
+    {
+      F8 sum = node[0];
+#pragma GCC unroll 14
+      for (int i = 1; i < N; ++i)
+        sum += node[i];
+      F8 value = gaussian.next(k0, n) * sum;
+      const F8 beyond = along < zero ? along : (along > length ? along - length : zero);
+      value = across * across + beyond * beyond <= radius2 ? value : zero;
+      along += along_block;
+      across += across_block;
+      std::memcpy(row + k0, &value, sizeof value);
+      accumulate(total, value, n - k0);
+#pragma GCC unroll 14
+      for (int i = 0; i < N; ++i)
+        node[i] *= splat(q.advance[i]);
+    }
+    row_sums[k] = laneSum(total);
   }
-  return laneSum(total);
+}
+
+/// \brief quadratureRows for the stroke's node count (each count unrolled in each clone).
+__attribute__((target_clones("avx2", "default"))) void quadratureRectangle(const QuadratureStroke& q, int rows, int n,
+                                                                           float* w, double* row_sums)
+{
+  switch (q.nodes)
+  {
+    case 4:
+      return quadratureRows<4>(q, rows, n, w, row_sums);
+    case 5:
+      return quadratureRows<5>(q, rows, n, w, row_sums);
+    case 6:
+      return quadratureRows<6>(q, rows, n, w, row_sums);
+    case 7:
+      return quadratureRows<7>(q, rows, n, w, row_sums);
+    case 8:
+      return quadratureRows<8>(q, rows, n, w, row_sums);
+    case 9:
+      return quadratureRows<9>(q, rows, n, w, row_sums);
+    case 10:
+      return quadratureRows<10>(q, rows, n, w, row_sums);
+    case 11:
+      return quadratureRows<11>(q, rows, n, w, row_sums);
+    case 12:
+      return quadratureRows<12>(q, rows, n, w, row_sums);
+    case 13:
+      return quadratureRows<13>(q, rows, n, w, row_sums);
+    default:
+      return quadratureRows<14>(q, rows, n, w, row_sums);
+  }
+}
+
+/// \brief The weights of a stroke of √A ≤ kQuadratureStroke over the pixel rectangle [row_lo, row_hi] × [col_lo,
+/// col_hi] that bounds its capsule (quadratureRectangle: every row the same columns, so no chord to find and no
+/// exponential a row). Pixels outside the capsule weigh 0 and are trimmed from the rows; the rectangle holds 15 % (a
+/// stroke along an axis) to 35 % (diagonal) more pixels than the capsule, each ~2× cheaper than the erf form's.
+void weighRectangle(const SegmentIntegral& si, const Stroke& stroke, const TiledEnergyMap& map, double radius,
+                    const Eigen::Vector2d& t, double row_lo, double row_hi, double col_lo, double col_hi,
+                    StrokeWeights& out)
+{
+  const double p = map.pixel(), inv_p = 1.0 / p;
+  const Eigen::Vector2d& o = map.origin();
+  const Eigen::Vector2d& c0 = stroke.start;
+  QuadratureStroke q;
+  q.nodes = energy_detail::bracketRuleNodes(si.sqrt_a);
+  // The first pixel's offset from the start.
+  const double x0 = o.x() + (col_lo + 0.5) * p - c0.x(), y0 = o.y() + (row_lo + 0.5) * p - c0.y();
+  const double half = 0.5 * si.sqrt_a;
+  q.s0 = si.m.x() * x0 + si.m.y() * y0;
+  q.u0 = si.g.x() * x0 + si.g.y() * y0 - half;
+  q.ds = si.m.x() * p;
+  q.du = si.g.x() * p;
+  q.ds_row = si.m.y() * p;
+  q.du_row = si.g.y() * p;
+  q.along0 = (t.x() * x0 + t.y() * y0) * inv_p;
+  q.across0 = (-t.y() * x0 + t.x() * y0) * inv_p;
+  q.along_step = t.x();
+  q.across_step = -t.y();
+  q.along_row = t.y();
+  q.across_row = t.x();
+  q.length_px = static_cast<float>(stroke.displacement().norm() * inv_p);
+  q.radius2_px = static_cast<float>((radius * inv_p) * (radius * inv_p));
+  q.gauss_q = gaussianRatio(q.ds, q.du);
+  const energy_detail::GaussLegendreRule& rule = energy_detail::gaussLegendreRule(q.nodes);
+  for (int i = 0; i < q.nodes; ++i)
+  {
+    const double c = si.sqrt_a * (rule.node[i] - 0.5);
+    // e^{2c du·l} by powers of e^{2c du} (double), each rounded once.
+    const double ratio = std::exp(2.0 * c * q.du);
+    double power = 1.0;
+    for (int l = 0; l < 8; ++l)
+    {
+      q.lanes[i][l] = static_cast<float>(power);
+      power *= ratio;
+    }
+    q.advance[i] = static_cast<float>(power);
+    q.factor[i] = 2.0 / std::sqrt(M_PI) * si.sqrt_a * rule.weight[i] * std::exp(c * (2.0 * q.u0 - c));
+    q.factor_row[i] = std::exp(2.0 * c * q.du_row);
+  }
+  const int n = static_cast<int>(col_hi - col_lo) + 1;
+  const int rows = static_cast<int>(row_hi - row_lo) + 1;
+  const std::size_t size = static_cast<std::size_t>(rows) * static_cast<std::size_t>(n) + 8;
+  std::vector<float>& weights = out.weights;
+  if (weights.size() < size)
+    weights.resize(std::max(2 * weights.size(), size));
+  thread_local std::vector<double> row_sums;
+  row_sums.resize(static_cast<std::size_t>(rows));
+  quadratureRectangle(q, rows, n, weights.data(), row_sums.data());
+  // Each row trimmed to the capsule (its zeros at both ends): the map adds, and the tiles it touches, are the
+  // capsule's.
+  double total = 0.0;
+  for (int k = 0; k < rows; ++k)
+  {
+    const float* w = weights.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(n);
+    int begin = 0, end = n;
+    while (begin < end && w[begin] == 0.0f)
+      ++begin;
+    while (end > begin && w[end - 1] == 0.0f)
+      --end;
+    if (begin == end)
+      continue;
+    StrokeWeights::Row r;
+    r.row = static_cast<std::int64_t>(row_lo) + k;
+    r.col = static_cast<std::int64_t>(col_lo) + begin;
+    r.n = end - begin;
+    r.offset = static_cast<std::size_t>(k) * static_cast<std::size_t>(n) + static_cast<std::size_t>(begin);
+    r.sum = row_sums[static_cast<std::size_t>(k)];
+    total += r.sum;
+    out.rows.push_back(r);
+  }
+  out.total = total;
 }
 
 /// \brief The erf form along a row: s_k = s0 + k·ds, u_k = u0 + k·du, W = exp(−s²)·[erf(√A − u) + erf(u)].
@@ -226,11 +424,6 @@ __attribute__((target_clones("avx2", "default"))) double erfRowLanes(const ErfRo
   return laneSum(total);
 }
 
-// Gauss–Legendre nodes and weights on [0, 1] (Abramowitz & Stegun 25.4.30, n = 4).
-constexpr double kGaussNodes[4] = {0.5 * (1.0 - 0.8611363115940526), 0.5 * (1.0 - 0.3399810435848563),
-                                   0.5 * (1.0 + 0.3399810435848563), 0.5 * (1.0 + 0.8611363115940526)};
-constexpr double kGaussWeights[4] = {0.5 * 0.3478548451374538, 0.5 * 0.6521451548625461, 0.5 * 0.6521451548625461,
-                                     0.5 * 0.3478548451374538};
 }  // namespace
 
 StrokeDeposit::StrokeDeposit(const EnergyConfig& config)
@@ -271,25 +464,14 @@ void StrokeDeposit::weigh(const TiledEnergyMap& map, const Stroke& stroke, Strok
   const double length = d.norm();
   const Eigen::Vector2d t = length > 0.0 ? Eigen::Vector2d(d / length) : Eigen::Vector2d(1.0, 0.0);
   const Eigen::Vector2d nrm(-t.y(), t.x());
-  // Per-stroke constants of the row recurrences (curvatures along a row, in columns; a short stroke's nodes).
-  const double alpha_stationary = si.qxx * p * p;
-  ShortRow short_row;
-  if (!si.stationary && si.sqrt_a <= kShortStroke)
+  if (!si.stationary && si.sqrt_a <= kQuadratureStroke)
   {
-    short_row.ds = si.m.x() * p;
-    short_row.du = si.g.x() * p;
-    for (int i = 0; i < 4; ++i)
-    {
-      short_row.c[i] = si.sqrt_a * kGaussNodes[i];
-      short_row.a[i] = 2.0 / std::sqrt(M_PI) * si.sqrt_a * kGaussWeights[i];
-      short_row.advance[i] = static_cast<float>(std::exp(16.0 * short_row.c[i] * short_row.du));
-      const energy_detail::F8 lanes = energy_detail::expNeg(
-          energy_detail::splat(static_cast<float>(-2.0 * short_row.c[i] * short_row.du)) * energy_detail::laneIndex());
-      std::memcpy(short_row.lanes[i], &lanes, sizeof lanes);
-    }
-    short_row.gauss_q = gaussianRatio(short_row.ds, short_row.du);
+    weighRectangle(si, stroke, map, radius, t, row_lo, row_hi, col_lo, col_hi, out);
+    return;
   }
-  const float erf_q = !si.stationary && si.sqrt_a > kShortStroke ? gaussianRatio(si.m.x() * p, 0.0) : 0.0f;
+  // Per-stroke constants of the row recurrences (curvatures along a row, in columns).
+  const double alpha_stationary = si.qxx * p * p;
+  const float erf_q = si.stationary ? 0.0f : gaussianRatio(si.m.x() * p, 0.0);
   std::vector<float>& weights = out.weights;
   std::size_t used = 0;
   double total = 0.0;
@@ -337,15 +519,6 @@ void StrokeDeposit::weigh(const TiledEnergyMap& map, const Stroke& stroke, Strok
       g.centre = (xs - x0) / p;
       g.alpha = alpha_stationary;
       row_sum = rowGaussianLanes(g, n, w);
-    }
-    else if (si.sqrt_a <= kShortStroke)
-    {
-      // A short stroke: erf(u) − erf(u − √A) = (2/√π)∫ e^{−x²} over [u − √A, u] by 4-point Gauss–Legendre, so
-      // W = (2/√π)·√A·Σ_i w_i·exp(−s² − (u − √A τ_i)²) (shortRowLanes).
-      ShortRow& g = short_row;  // the stroke's constants, this row's start
-      g.s0 = si.m.x() * x0 + si.m.y() * ry;
-      g.u0 = si.g.x() * x0 + si.g.y() * ry;
-      row_sum = shortRowLanes(g, n, w);
     }
     else
     {

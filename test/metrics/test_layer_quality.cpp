@@ -76,7 +76,8 @@ Stream delayedStream(const PathTimeline& timeline, int lag, const Eigen::Vector2
 }
 
 LayerQualityReport run(const PathTimeline& timeline, const Job& job, const Stream& s, double lag_s, std::size_t chunk,
-                       const EnergyConfig& config = EnergyConfig(), std::size_t drop_from = 0, std::size_t drop_to = 0)
+                       const EnergyConfig& config = EnergyConfig(), std::size_t drop_from = 0, std::size_t drop_to = 0,
+                       unsigned threads = 1)
 {
   LayerQuality q(config, timeline, job, lag_s, s.samples.size(), Eigen::Vector2d(-1e-3, -1e-3),
                  Eigen::Vector2d(3e-3, 3e-3));
@@ -97,7 +98,7 @@ LayerQualityReport run(const PathTimeline& timeline, const Job& job, const Strea
     send(start, std::min(end, std::max(start, drop_from)));
     send(std::max(start, std::min(end, drop_to)), end);
   }
-  return q.finish();
+  return q.finish(threads);
 }
 
 /// The default settings with the same-instant search half-width \p window_s.
@@ -203,6 +204,37 @@ TEST(LayerQuality, NearestPathMatchesBruteForceAndChunking)
     EXPECT_EQ(other.fill_cells_reached, r.fill_cells_reached);
     EXPECT_EQ(other.mark_speed_ratio.binCounts(), r.mark_speed_ratio.binCounts());
   }
+}
+
+// The nearest-path pass on two threads (its queries in blocks of 2^15, halves on a side thread, added in order) gives
+// the same figures, bit for bit, as one thread: a meander long enough for several blocks (~120 000 points).
+TEST(LayerQuality, NearestPathOnTwoThreadsEqualsOne)
+{
+  Job job;
+  job.name = "meander";
+  std::vector<Eigen::Vector2d> points;
+  for (int i = 0; i < 300; ++i)
+  {
+    const double y = i * 5e-6;
+    points.emplace_back(i % 2 ? 2e-3 : 0.0, y);
+    points.emplace_back(i % 2 ? 0.0 : 2e-3, y);
+  }
+  job.polylines.push_back(line(PolylineType::Mark, PolylineRole::Hatch, 0.5, std::move(points)));
+  const PathTimeline timeline(job, 4.0);
+  Stream s = delayedStream(timeline, 13, Eigen::Vector2d(2e-6, -3e-6));
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 4e-6);
+  for (SpotSample& sample : s.samples)
+    sample.actual += Eigen::Vector2d(noise(rng), noise(rng));
+  const LayerQualityReport one = run(timeline, job, s, 13 * kTs, 1000);
+  const LayerQualityReport two = run(timeline, job, s, 13 * kTs, 1000, EnergyConfig(), 0, 0, 2);
+  ASSERT_GT(one.commanded_points, 3u << 15);
+  ASSERT_TRUE(one.nearest_measured);
+  EXPECT_TRUE(two.nearest_path.mark == one.nearest_path.mark);
+  EXPECT_TRUE(two.nearest_path.hatch == one.nearest_path.hatch);
+  EXPECT_TRUE(two.nearest_path.jump == one.nearest_path.jump);
+  EXPECT_EQ(two.nearest_path.mark.count(), one.nearest_path.mark.count());
+  EXPECT_GT(one.nearest_path.mark.count(), 0u);
 }
 
 // A lost stretch of the stream (100 samples): the commanded points whose whole search window lies

@@ -21,6 +21,8 @@
 
 namespace scanhead
 {
+class NearestPathIndex;
+
 /// \brief Contour errors of one definition, by kind of commanded point.
 struct ContourErrorSplit
 {
@@ -68,7 +70,8 @@ struct LayerQualityReport
 ///   track, axis lags), as the THESIS's search for the least following error does;
 /// - nearest path (a): min distance from c_k to every segment of the whole actual path (float
 ///   storage relative to the map origin: 3e-8 m resolution at 0.35 m), at finish() through
-///   NearestPathIndex, the strict same-instant distance as upper bound; jobs with more than
+///   NearestPathIndex, the strict same-instant distance as upper bound (on two threads with
+///   finish(2), the same figures); jobs with more than
 ///   energy.contour_max_samples samples skip it (16 B per sample would not stay bounded);
 /// - fill rate: FillRateGrid of pitch = spot diameter; to fill: the commanded hatch marks; reached:
 ///   the laser-on actual spot while its same-instant command is a hatch mark;
@@ -87,7 +90,8 @@ public:
   ~LayerQuality();
   void process(const SpotChunk& chunk);
   /// \brief Ends the stream: the last same-instant points, the nearest-path pass, the report.
-  LayerQualityReport finish();
+  /// \param[in] threads 2: the nearest-path queries on two threads (the same report, bit for bit)
+  LayerQualityReport finish(unsigned threads = 1);
 
 private:
   enum class Kind : std::uint8_t
@@ -107,6 +111,7 @@ private:
   /// \brief commandAt(k), from the cache of the last commands when it holds k.
   const Command& cachedCommand(std::uint64_t k, PathTimeline::Cursor& cursor);
   void sameInstant(std::uint64_t k);
+  void nearestPathPass(const NearestPathIndex& index, unsigned threads);
   void unmatched(std::uint64_t k);
   Eigen::Vector2d held(std::uint64_t index) const;
   void hold(std::uint64_t index, const Eigen::Vector2d& p);
