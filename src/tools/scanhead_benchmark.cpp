@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "benchmark_contour_error.hpp"
+#include "benchmark_stroke_deposit.hpp"
 #include "process_memory.hpp"
 #include "scanhead/chain/batch_chain.hpp"
 #include "scanhead/chain/config_io.hpp"
@@ -353,8 +354,8 @@ int main(int argc, char** argv)
         "paper's case) and hatch (5 mm square, 100 um spacing). Then the NC alone on the last job with each\n"
         "NC option (table IGT, adaptive filters, delays, skywriting, power ~ speed, quantisation, debug\n"
         "signals): samples per second and ratio to the default; and the optical models: spots per second\n"
-        "of the ray trace, the Newton inverse and the table inverse; and the contour-error definitions on\n"
-        "a synthetic hatch of --contour-points points.");
+        "of the ray trace, the Newton inverse and the table inverse; the energy deposit of one stroke by\n"
+        "length and angle; and the contour-error definitions on a synthetic hatch of --contour-points points.");
     app.add_option("--job", jobs, "a job spec, as scanhead_run --job (repeatable; default: corner and hatch)")
         ->type_name("SPEC")
         ->allow_extra_args(false);
@@ -393,6 +394,7 @@ int main(int argc, char** argv)
     benchmarkNcOptions(config_path, overrides, optics, jobs.back(), repeat);
     benchmarkOpticalModels(config, optics, repeat);
     benchmarkServoAndGenerator(repeat);
+    benchmarkStrokeDeposit(config.energy, std::min(repeat, 3));
     std::printf("\ncontour error on a synthetic hatch\n");
     benchmarkContourError(std::cout, contour_points);
     return 0;

@@ -36,20 +36,23 @@ struct StrokeWeights
 /// method truncates each sub-step: across the stroke and beyond both ends), scaled so that they sum to exactly the
 /// stroke's energy / pixel² (the share on pixels off the map goes to the caller's outside energy).
 ///
-/// Row by row: the capsule's column range follows analytically (a disc at each end, a band between); along a row
-/// the weights are evaluated directly, 8 columns at a time in float lanes (src/energy/lane_math.hpp: exp by Cephes'
-/// expf, relative error ≤ 2 ulp; erf by Abramowitz & Stegun 7.1.28, |error| ≤ 4e-6 in float; AVX2 and default clones
-/// give the same bits): the cross factor exp(−(mᵀr)²) everywhere, the bracket erf(√A − u) + erf(u) only outside the run
-/// where |u| and |√A − u| exceed 6 (there it is 2 to float precision); short strokes (√A ≤ 1) by 4-point
-/// Gauss–Legendre in τ (the nodes' factors are geometric along a row), stationary ones as the dwell's Gaussian. The
-/// Gaussians of the erf and short forms are quadratic exponents along a row: two exponentials every 8 blocks and two
-/// products a block between (GaussianSteps in the .cpp; the THESIS layer's energy CPU time −7 %). Every argument is
-/// formed in double at the first column of a block of 8 and rounded once, so the weights keep float precision (~1e-6
-/// of the peak, far inside the 2e-3 budget of issue 13: measured 1.2e-6 against the exponential a block) on any row.
-/// Rows are stored as floats, summed in a fixed order, then added with TiledEnergyMap::addRow (one tile lookup per row
-/// span). Cost:
-/// ~(2R/p)·(L/p + 2R/p) pixel weights per stroke of length L (a long stroke: 2R/p = 35 new pixels per pixel of length
-/// at 5 µm), ~1 ns each on AVX2.
+/// Two evaluations, 8 columns at a time in float lanes (src/energy/lane_math.hpp: exp by Cephes' expf, relative error
+/// ≤ 2 ulp; erf by Abramowitz & Stegun 7.1.28, |error| ≤ 4e-6 in float; AVX2 and default clones give the same bits):
+/// - √A ≤ 6 (strokes up to ~150 µm at w = 35 µm: on two THESIS squares 95 % of the strokes and 84 % of the pixels): the
+///   bracket erf(√A − u) + erf(u) by Gauss–Legendre quadrature in τ with 4–14 nodes (src/energy/gauss_legendre.hpp,
+///   |error| ≤ 9.5e-7), over the rectangle of pixels that bounds the capsule: every row has the same columns, so the
+///   Gaussian's first block and the nodes' factors follow from the previous row's by products (anchored every 8 rows)
+///   and a row costs no exponential and no chord; pixels outside the capsule weigh 0 and are trimmed from the rows;
+/// - longer strokes row by row over the capsule (a disc at each end, a band between, each row's column range found
+///   analytically): the cross factor exp(−(mᵀr)²) everywhere, the bracket by erf only outside the run where |u| and
+///   |√A − u| exceed 6 (there it is 2 to float precision); stationary ones as the dwell's Gaussian.
+/// The Gaussians are quadratic exponents along a row: two exponentials every 8 blocks and two products a block between
+/// (GaussianSteps in the .cpp). Every exponent is formed in double and rounded once (the quadrature's anchors split
+/// into float hi + lo), so the weights keep float precision (~1e-6 of the peak, far inside the 2e-3 budget of issue
+/// 13: test_stroke_deposit.cpp measures 3.7e-6 against the closed form in double, the truncation's renormalisation
+/// included). Rows are stored as floats, summed in a fixed order, then added with TiledEnergyMap::addRow (one tile
+/// lookup per row span). Cost: ~(2R/p)·(L/p + 2R/p) pixel weights per stroke of length L (a long stroke: 2R/p = 35 new
+/// pixels per pixel of length at 5 µm), ~2 ns each with the map's add on AVX2 (a row's fixed cost included).
 class StrokeDeposit
 {
 public:
