@@ -75,6 +75,17 @@ Stream delayedStream(const PathTimeline& timeline, int lag, const Eigen::Vector2
   return s;
 }
 
+/// delayedStream 13 samples late, shifted by (2, −3) µm, with Gaussian noise of 4 µm on each axis (seeded).
+Stream noisyStream(const PathTimeline& timeline, unsigned seed)
+{
+  Stream s = delayedStream(timeline, 13, Eigen::Vector2d(2e-6, -3e-6));
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 4e-6);
+  for (SpotSample& sample : s.samples)
+    sample.actual += Eigen::Vector2d(noise(rng), noise(rng));
+  return s;
+}
+
 LayerQualityReport run(const PathTimeline& timeline, const Job& job, const Stream& s, double lag_s, std::size_t chunk,
                        const EnergyConfig& config = EnergyConfig(), std::size_t drop_from = 0, std::size_t drop_to = 0,
                        unsigned threads = 1)
@@ -168,11 +179,7 @@ TEST(LayerQuality, NearestPathMatchesBruteForceAndChunking)
 {
   const Job job = squareJob();
   const PathTimeline timeline(job, 4.0);
-  Stream s = delayedStream(timeline, 13, Eigen::Vector2d(2e-6, -3e-6));
-  std::mt19937 rng(7);
-  std::normal_distribution<double> noise(0.0, 4e-6);
-  for (SpotSample& sample : s.samples)
-    sample.actual += Eigen::Vector2d(noise(rng), noise(rng));
+  const Stream s = noisyStream(timeline, 7);
   const LayerQualityReport r = run(timeline, job, s, 13 * kTs, 1000);
   ContourErrorStats brute;
   PathTimeline::Cursor cursor;
@@ -221,11 +228,7 @@ TEST(LayerQuality, NearestPathOnTwoThreadsEqualsOne)
   }
   job.polylines.push_back(line(PolylineType::Mark, PolylineRole::Hatch, 0.5, std::move(points)));
   const PathTimeline timeline(job, 4.0);
-  Stream s = delayedStream(timeline, 13, Eigen::Vector2d(2e-6, -3e-6));
-  std::mt19937 rng(11);
-  std::normal_distribution<double> noise(0.0, 4e-6);
-  for (SpotSample& sample : s.samples)
-    sample.actual += Eigen::Vector2d(noise(rng), noise(rng));
+  const Stream s = noisyStream(timeline, 11);
   const LayerQualityReport one = run(timeline, job, s, 13 * kTs, 1000);
   const LayerQualityReport two = run(timeline, job, s, 13 * kTs, 1000, EnergyConfig(), 0, 0, 2);
   ASSERT_GT(one.commanded_points, 3u << 15);
