@@ -192,8 +192,9 @@ SCANHEAD_LANE_INLINE energy_detail::F8 expNegSplit(const double (&x)[8])
 /// the capsule (pixel centres within R of the segment: the truncation of the other methods). From row to row:
 /// Q(k + 1, l) − Q(k, l) = 2(s_k Δs + u'_k Δu) + Δs² + Δu² + 2l(ds Δs + du Δu) is linear in k, so the first block's
 /// e^{−Q}, GaussianSteps' ratio e^{−D} and the nodes' factors follow by products too (V ← V·c_V), anchored every
-/// kAnchorRows rows by exact exponentials: one exponential argument rounded per anchor, as GaussianSteps along a row
-/// (error ≤ ~2·kAnchorRows·6e-8 relative to the value, ~1e-6 of the stroke's peak: test_stroke_deposit.cpp).
+/// kAnchorRows rows by exact exponentials (exponents split hi/lo: expNegSplit), error ≤ ~2·kAnchorRows·6e-8 relative
+/// to the value, ~1e-6 of the stroke's peak (test_stroke_deposit.cpp). A row longer than kAnchorBlocks blocks (only the
+/// longest strokes' last pixel) re-anchors as GaussianSteps does, its exponent rounded to float (~3e-6 relative).
 template <int N>
 SCANHEAD_LANE_INLINE void quadratureRows(const QuadratureStroke& q, int rows, int n, float* w, double* row_sums)
 {
@@ -357,7 +358,7 @@ void weighRectangle(const SegmentIntegral& si, const Stroke& stroke, const Tiled
   std::vector<float>& weights = out.weights;
   if (weights.size() < size)
     weights.resize(std::max(2 * weights.size(), size));
-  thread_local std::vector<double> row_sums;
+  thread_local std::vector<double> row_sums;  // weigh() runs on several threads at once: a scratch each
   row_sums.resize(static_cast<std::size_t>(rows));
   quadratureRectangle(q, rows, n, weights.data(), row_sums.data());
   // Each row trimmed to the capsule (its zeros at both ends): the map adds, and the tiles it touches, are the
