@@ -158,7 +158,9 @@ struct QuadratureStroke
   // The first row's first column, and the steps per column and per row:
   double s0 = 0.0, u0 = 0.0, ds = 0.0, du = 0.0, ds_row = 0.0, du_row = 0.0;  ///< s and u'
   double along0 = 0.0, across0 = 0.0;  ///< the pixel centre's offset from the stroke's start, along and across it [px]
-  double along_step = 0.0, across_step = 0.0, along_row = 0.0, across_row = 0.0;  ///< per column, per row [px]
+  /// The stroke's unit direction (tx, ty): a pixel's offset (X, Y) from the start [px] lies along = tx·X + ty·Y and
+  /// across = −ty·X + tx·Y, so one column adds (tx, −ty) to them and one row (ty, tx).
+  double tx = 1.0, ty = 0.0;
   float length_px = 0.0f, radius2_px = 0.0f;  ///< the capsule: segment length and truncation radius² [px, px²]
   double factor[kMaxNodes] = {};              ///< a_i e^{2c_i u'_0 − c_i²} on the first row
   double factor_row[kMaxNodes] = {};          ///< e^{2c_i du_row}: one row further
@@ -204,9 +206,9 @@ SCANHEAD_LANE_INLINE void quadratureRows(const QuadratureStroke& q, int rows, in
   const double cross = q.ds * q.ds_row + q.du * q.du_row;
   const F8 c_v = splat(static_cast<float>(std::exp(-2.0 * a_row)));
   const F8 c_r = splat(static_cast<float>(std::exp(-16.0 * cross)));
-  const F8 along_step = splat(static_cast<float>(q.along_step)), across_step = splat(static_cast<float>(q.across_step));
-  const F8 along_block = splat(static_cast<float>(8.0 * q.along_step));
-  const F8 across_block = splat(static_cast<float>(8.0 * q.across_step));
+  const F8 along_step = splat(static_cast<float>(q.tx)), across_step = splat(static_cast<float>(-q.ty));
+  const F8 along_block = splat(static_cast<float>(8.0 * q.tx));
+  const F8 across_block = splat(static_cast<float>(-8.0 * q.ty));
   const F8 zero = splat(0.0f), length = splat(q.length_px), radius2 = splat(q.radius2_px);
   F8 gauss_e = zero, gauss_r = zero, gauss_v = zero;
   double factor[N];
@@ -247,8 +249,8 @@ SCANHEAD_LANE_INLINE void quadratureRows(const QuadratureStroke& q, int rows, in
     }
     // The capsule's coordinates at the lanes, in pixels (float, stepped a block at a time: ≤ ~1e-5 px off at a row's
     // end, immaterial to the truncation).
-    F8 along = splat(static_cast<float>(q.along0 + k * q.along_row)) + along_step * lane;
-    F8 across = splat(static_cast<float>(q.across0 + k * q.across_row)) + across_step * lane;
+    F8 along = splat(static_cast<float>(q.along0 + k * q.ty)) + along_step * lane;
+    F8 across = splat(static_cast<float>(q.across0 + k * q.tx)) + across_step * lane;
     GaussianSteps gaussian(s0, q.ds, u0, q.du, q.gauss_q);
     gaussian.start(gauss_e, gauss_r);
     float* row = w + static_cast<std::size_t>(k) * static_cast<std::size_t>(n);
@@ -310,7 +312,7 @@ __attribute__((target_clones("avx2", "default"))) void quadratureRectangle(const
 /// exponential a row). Pixels outside the capsule weigh 0 and are trimmed from the rows; the rectangle holds 15 % (a
 /// stroke along an axis) to 35 % (diagonal) more pixels than the capsule, each ~2× cheaper than the erf form's.
 void weighRectangle(const SegmentIntegral& si, const Stroke& stroke, const TiledEnergyMap& map, double radius,
-                    const Eigen::Vector2d& t, double row_lo, double row_hi, double col_lo, double col_hi,
+                    double length, const Eigen::Vector2d& t, double row_lo, double row_hi, double col_lo, double col_hi,
                     StrokeWeights& out)
 {
   const double p = map.pixel(), inv_p = 1.0 / p;
@@ -329,11 +331,9 @@ void weighRectangle(const SegmentIntegral& si, const Stroke& stroke, const Tiled
   q.du_row = si.g.y() * p;
   q.along0 = (t.x() * x0 + t.y() * y0) * inv_p;
   q.across0 = (-t.y() * x0 + t.x() * y0) * inv_p;
-  q.along_step = t.x();
-  q.across_step = -t.y();
-  q.along_row = t.y();
-  q.across_row = t.x();
-  q.length_px = static_cast<float>(stroke.displacement().norm() * inv_p);
+  q.tx = t.x();
+  q.ty = t.y();
+  q.length_px = static_cast<float>(length * inv_p);
   q.radius2_px = static_cast<float>((radius * inv_p) * (radius * inv_p));
   q.gauss_q = gaussianRatio(q.ds, q.du);
   const energy_detail::GaussLegendreRule& rule = energy_detail::gaussLegendreRule(q.nodes);
@@ -464,12 +464,12 @@ void StrokeDeposit::weigh(const TiledEnergyMap& map, const Stroke& stroke, Strok
 
   const double length = d.norm();
   const Eigen::Vector2d t = length > 0.0 ? Eigen::Vector2d(d / length) : Eigen::Vector2d(1.0, 0.0);
-  const Eigen::Vector2d nrm(-t.y(), t.x());
   if (!si.stationary && si.sqrt_a <= kQuadratureStroke)
   {
-    weighRectangle(si, stroke, map, radius, t, row_lo, row_hi, col_lo, col_hi, out);
+    weighRectangle(si, stroke, map, radius, length, t, row_lo, row_hi, col_lo, col_hi, out);
     return;
   }
+  const Eigen::Vector2d nrm(-t.y(), t.x());
   // Per-stroke constants of the row recurrences (curvatures along a row, in columns).
   const double alpha_stationary = si.qxx * p * p;
   const float erf_q = si.stationary ? 0.0f : gaussianRatio(si.m.x() * p, 0.0);
