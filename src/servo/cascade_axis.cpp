@@ -247,9 +247,10 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void CascadeAxis::s
     // Exact while ω_r keeps the sign it starts with (or breaks away to).
     Mask2 ok = no_coulomb | (((dir > zero) & (t[1] > zero)) | ((dir < zero) & (t[1] < zero)));
     const Mask2 stuck = ~no_coulomb & ~moving & (lanes::magnitude(drive) <= tc);
+    if (lanes::laneBits(stuck) != 0)
     {
-      // Stuck: x ← Φs x + Γs U with ω_r := 0, kept if the drive stays within ±Tc at the step's end
-      // (computed whatever the lanes: cheaper than a mispredicted branch, and off the critical path).
+      // Stuck: x ← Φs x + Γs U with ω_r := 0, kept if the drive stays within ±Tc at the step's end (a rotor at rest:
+      // the branch changes only where the rotor stops or breaks away, rarely enough to be predicted).
       Double2 ts[5];
       for (int i = 0; i < 4; ++i)
         ts[i] = (((phis[i][0] * st[0] + phis[i][1] * st[1]) + phis[i][2] * st[2]) + phis[i][3] * st[3]) +

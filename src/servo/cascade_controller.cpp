@@ -42,6 +42,9 @@ CascadeController::CascadeController(const CascadeGains& gains, double jeq_over_
   k.l_h = plant.inductance_h;
   k.ke_k1 = plant.torque_constant_nm_per_a * gains.k1;
   k.supply_v = supply_v;
+  k.p_w = k.ktheta * (1.0 + k.pd_b);
+  k.p_i = k.kiw * (1.0 + k.cw);
+  k.p_u = k.kii * (1.0 + k.ci);
 }
 
 void CascadeController::reset(double angle_rad)

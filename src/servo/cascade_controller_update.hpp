@@ -35,13 +35,11 @@ inline void feedforwardSignals(const CascadeControllerCoefficients<T>& k, Cascad
   }
 }
 
-/// \brief The voltage feedforward and the current PI from the current reference s.i_ref and the current
-/// feedforward \p i_ff already in it; returns the unsaturated voltage and the current PI's new integral.
+/// \brief The voltage feedforward U_ff = R i_ff + L di_ff/dt + Ke ω_ff into s.u_ff (when on), and i_ff remembered.
 template <class T>
-inline T currentLoop(const CascadeControllerCoefficients<T>& k, CascadeControllerState<T>& s, bool voltage_ff, T w_ff,
-                     T i_ff, T current, T& int_i_new)
+inline void voltageFeedforward(const CascadeControllerCoefficients<T>& k, CascadeControllerState<T>& s, bool voltage_ff,
+                               T w_ff, T i_ff)
 {
-  // Voltage feedforward U_ff = R i_ff + L di_ff/dt + Ke ω_ff.
   if (voltage_ff)
   {
     // di_ff/dt: the filter's own discrete derivative (backward difference of the filtered i_ff) —
@@ -51,6 +49,15 @@ inline T currentLoop(const CascadeControllerCoefficients<T>& k, CascadeControlle
     s.u_ff = k.r_ohm * i_ff + k.l_h * di_ff + k.ke_k1 * w_ff;
   }
   s.i_ff_prev = i_ff;
+}
+
+/// \brief The voltage feedforward and the current PI from the current reference s.i_ref and the current
+/// feedforward \p i_ff already in it; returns the unsaturated voltage and the current PI's new integral.
+template <class T>
+inline T currentLoop(const CascadeControllerCoefficients<T>& k, CascadeControllerState<T>& s, bool voltage_ff, T w_ff,
+                     T i_ff, T current, T& int_i_new)
+{
+  voltageFeedforward(k, s, voltage_ff, w_ff, i_ff);
   // Current PI.
   const T e_i = s.i_ref - current;
   int_i_new = s.int_i + k.ci * (e_i + s.e_i_prev);
@@ -59,6 +66,13 @@ inline T currentLoop(const CascadeControllerCoefficients<T>& k, CascadeControlle
 }
 
 /// \brief One controller sample; returns the voltage saturated to ±supply [V].
+///
+/// The loops are linear between the measurements: each reference is its gain times its error plus terms known before
+/// this sample's θ, ω, i (the states' memories and the feedforwards), e.g. ω_ref = Kθ(e_θ + d_k) + K1 w_ff =
+/// Kθ(1 + b)·e_θ + [Kθ(a d_{k−1} − b e_{θ,k−1}) + K1 w_ff] with the PD's d_k = a d_{k−1} + b(e_θ − e_{θ,k−1}).
+/// Written so, the measurements reach u through three multiply-adds instead of ~20 dependent operations (the servo
+/// step is a recursion: this chain is its speed); the states are then updated off that path. The same equations as
+/// the cascade_controller.hpp forms, rounded differently (~1 ulp).
 /// \param[in] differentiate, voltage_ff  the controller's modes (the same for every lane)
 template <class T>
 inline T cascadeControllerUpdate(const CascadeControllerCoefficients<T>& k, CascadeControllerState<T>& s,
@@ -71,21 +85,28 @@ inline T cascadeControllerUpdate(const CascadeControllerCoefficients<T>& k, Casc
   using lanes::select;
   T w_ff, a_ff;
   feedforwardSignals(k, s, differentiate, theta_ref, omega_ref, alpha_ref, w_ff, a_ff);
-  // Position PD.
+  const T i_ff = k.k2_jeq * a_ff;
+  voltageFeedforward(k, s, voltage_ff, w_ff, i_ff);
+  // The references' parts known before the measurements.
+  const T q_w = k.ktheta * (k.pd_a * s.d_state - k.pd_b * s.e_theta_prev) + k.k1 * w_ff;
+  const T q_i = k.kiw * (s.int_w + k.cw * s.e_w_prev) + i_ff;
+  const T q_u = k.kii * (s.int_i + k.ci * s.e_i_prev) + s.u_ff;
+  // Position PD, speed PI, current PI: from the measurements to u.
   const T e_theta = theta_ref - theta;
+  s.omega_ref = k.p_w * e_theta + q_w;
+  const T e_w = s.omega_ref - omega;
+  s.i_ref = k.p_i * e_w + q_i;
+  const T e_i = s.i_ref - current;
+  const T u = k.p_u * e_i + q_u;
+  // The states.
   s.d_state = k.pd_a * s.d_state + k.pd_b * (e_theta - s.e_theta_prev);
   s.e_theta_prev = e_theta;
-  s.omega_ref = k.ktheta * (e_theta + s.d_state) + k.k1 * w_ff;
-  // Speed PI.
-  const T e_w = s.omega_ref - omega;
   const T int_w_new = s.int_w + k.cw * (e_w + s.e_w_prev);
   s.e_w_prev = e_w;
-  const T i_ff = k.k2_jeq * a_ff;
-  s.i_ref = k.kiw * (e_w + int_w_new) + i_ff;
-  T int_i_new;
-  const T u = currentLoop(k, s, voltage_ff, w_ff, i_ff, current, int_i_new);
-  // Anti-windup: conditional integration (s.e_i_prev is this sample's current error).
-  const auto saturated = both(magnitude(u) > k.supply_v, s.e_i_prev * u > T{});
+  const T int_i_new = s.int_i + k.ci * (e_i + s.e_i_prev);
+  s.e_i_prev = e_i;
+  // Anti-windup: conditional integration.
+  const auto saturated = both(magnitude(u) > k.supply_v, e_i * u > T{});
   s.int_i = select(saturated, s.int_i, int_i_new);
   s.int_w = select(saturated, s.int_w, int_w_new);
   return clampTo(u, -k.supply_v, k.supply_v);

@@ -2,6 +2,7 @@
 /// \brief The sparse tiled map: same floats as a dense map whatever spills, bounded memory, exports.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -171,6 +172,44 @@ TEST(TiledEnergyMap, RegionIsTheDenseSlice)
   const EnergyMap clipped = acc.map().region(-10, -10, 50, 50);
   EXPECT_EQ(clipped.width(), 40);
   EXPECT_EQ(clipped.at(0, 0), dense.at(0, 0));
+}
+
+// region()'s block means equal, bit for bit, the double sums of their pixels taken tile by tile in tile order, then
+// row by row and column by column (the order region() documents) over factor²: factors 1 to 30, blocks straddling
+// tile edges, partial first and last blocks, clipped edges. (Sums of a few hundred floats in double are exact or
+// nearly so, so this catches a pixel missed or added rather than an order changed.)
+TEST(TiledEnergyMap, BlockMeansAreThePixelSums)
+{
+  const SpotChunk path = serpentine(6);
+  EnergyAccumulator acc(withCache(1 << 20), Eigen::Vector2d(-0.3e-3, -0.3e-3), Eigen::Vector2d(6.3e-3, 6.0e-3));
+  acc.process(path);
+  acc.finish();
+  const TiledEnergyMap& map = acc.map();
+  const EnergyMap dense = map.toDense();
+  const std::int64_t side = TiledEnergyMap::kTileSide;
+  for (int f : {1, 2, 3, 7, 30})
+    for (const std::array<std::int64_t, 4>& r :
+         {std::array<std::int64_t, 4>{13, 5, 301, 173}, std::array<std::int64_t, 4>{-9, -9, 250, 90},
+          std::array<std::int64_t, 4>{0, 0, map.width(), map.height()}})
+    {
+      const EnergyMap got = map.region(r[0], r[1], r[2], r[3], f);
+      const std::int64_t c0 = std::max<std::int64_t>(0, r[0]), r0 = std::max<std::int64_t>(0, r[1]);
+      const std::int64_t c1 = std::min(map.width(), r[0] + r[2]), r1 = std::min(map.height(), r[1] + r[3]);
+      for (int oy = 0; oy < got.height(); ++oy)
+        for (int ox = 0; ox < got.width(); ++ox)
+        {
+          const std::int64_t bx0 = c0 + ox * f, bx1 = std::min(c1, bx0 + f);
+          const std::int64_t by0 = r0 + oy * f, by1 = std::min(r1, by0 + f);
+          double sum = 0.0;
+          for (std::int64_t tj = by0 / side; tj <= (by1 - 1) / side; ++tj)
+            for (std::int64_t ti = bx0 / side; ti <= (bx1 - 1) / side; ++ti)
+              for (std::int64_t row = std::max(by0, tj * side); row < std::min(by1, (tj + 1) * side); ++row)
+                for (std::int64_t col = std::max(bx0, ti * side); col < std::min(bx1, (ti + 1) * side); ++col)
+                  sum += dense.at(static_cast<int>(col), static_cast<int>(row));
+          ASSERT_EQ(got.at(ox, oy), static_cast<float>(sum * (1.0 / (f * f))))
+              << "factor " << f << ", region at (" << r[0] << ", " << r[1] << "), block (" << ox << ", " << oy << ")";
+        }
+    }
 }
 
 TEST(TiledEnergyMap, BadGeometryIsNamed)

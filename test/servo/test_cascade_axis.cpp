@@ -3,12 +3,15 @@
 /// rest, large steps under saturation, controller rates, factory and validation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <random>
 #include <string>
 
 #include "scanhead/common/errors.hpp"
 #include "scanhead/servo/cascade_axis.hpp"
+#include "scanhead/servo/cascade_controller.hpp"
 #include "scanhead/servo/loop_analysis.hpp"
 
 namespace scanhead
@@ -33,6 +36,67 @@ double rampError(const AxisLoopConfig& cfg, double rate_hz, double v, double sec
   return ref - o.position;
 }
 }  // namespace
+
+// CascadeController::update (the loops written as gain × error + the terms known before the measurements) equals the
+// textbook forms of cascade_controller.hpp — PD y_k = a y_{k−1} + b(e_k − e_{k−1}), ω_ref = Kθ(e + y) + K1 ω_ff; speed
+// and current PI I_k = I_{k−1} + T/(2Ti)(e_k + e_{k−1}), ref = K(e + I_k); conditional integration under saturation —
+// within 1e-12 of each output's scale, on 20 000 random samples, 60 % of them saturating the voltage.
+TEST(CascadeController, UpdateEqualsTheTextbookForms)
+{
+  const CascadeGains g;
+  const GalvoPlantParams plant;
+  const double t = 1e-5, supply = plant.supply_voltage_v, jeq_kc = plant.inertia_kgm2 / plant.torque_constant_nm_per_a;
+  CascadeController c(g, jeq_kc, t, supply, false, plant, true);
+  c.reset(0.0);
+  // The textbook controller, step by step.
+  const double lp_a = std::exp(-t / g.tauf_s), tau_d = g.tdtheta_s / 100.0;
+  const double pd_a = (2.0 * tau_d - t) / (2.0 * tau_d + t), pd_b = 2.0 * g.tdtheta_s / (2.0 * tau_d + t);
+  double lp1 = 0, lp2 = 0, lp3 = 0, y = 0, e_theta_prev = 0, int_w = 0, e_w_prev = 0, int_i = 0, e_i_prev = 0;
+  double i_ff_prev = 0;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  double worst = 0.0;
+  int saturated = 0;
+  for (int k = 0; k < 20000; ++k)
+  {
+    const double theta_ref = 0.1 * uni(rng), omega_ref = 50.0 * uni(rng), alpha_ref = 1e5 * uni(rng);
+    const double theta = theta_ref + 5e-3 * uni(rng), omega = omega_ref + 20.0 * uni(rng), current = 40.0 * uni(rng);
+    const double u = c.update(theta_ref, omega_ref, alpha_ref, theta, omega, current);
+    lp1 = lp_a * lp1 + (1.0 - lp_a) * omega_ref;
+    lp2 = lp_a * lp2 + (1.0 - lp_a) * alpha_ref;
+    lp3 = lp_a * lp3 + (1.0 - lp_a) * lp2;
+    const double e_theta = theta_ref - theta;
+    y = pd_a * y + pd_b * (e_theta - e_theta_prev);
+    e_theta_prev = e_theta;
+    const double omega_ref_loop = g.ktheta * (e_theta + y) + g.k1 * lp1;
+    const double e_w = omega_ref_loop - omega;
+    const double int_w_new = int_w + t / (2.0 * g.tiw_s) * (e_w + e_w_prev);
+    e_w_prev = e_w;
+    const double i_ff = g.k2 * jeq_kc * lp3;
+    const double i_ref = g.kiw * (e_w + int_w_new) + i_ff;
+    const double u_ff = plant.resistance_ohm * i_ff + plant.inductance_h * (i_ff - i_ff_prev) / t +
+                        plant.torque_constant_nm_per_a * g.k1 * lp1;
+    i_ff_prev = i_ff;
+    const double e_i = i_ref - current;
+    const double int_i_new = int_i + t / (2.0 * g.tii_s) * (e_i + e_i_prev);
+    e_i_prev = e_i;
+    const double v = g.kii * (e_i + int_i_new) + u_ff;
+    const bool clipped = std::abs(v) > supply && e_i * v > 0.0;
+    saturated += clipped ? 1 : 0;
+    if (!clipped)
+    {
+      int_w = int_w_new;
+      int_i = int_i_new;
+    }
+    worst = std::max({worst, std::abs(c.speedReference() - omega_ref_loop) / (1.0 + std::abs(omega_ref_loop)),
+                      std::abs(c.currentReference() - i_ref) / (1.0 + std::abs(i_ref)),
+                      std::abs(u - std::clamp(v, -supply, supply)) / supply});
+  }
+  std::cout << "[controller] worst relative difference " << worst << ", " << saturated << " saturated samples\n";
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_GT(saturated, 2000);
+  EXPECT_LT(saturated, 18000);
+}
 
 // Without feedforward (K1 = K2 = 0) and friction, a ramp's steady following error is v × the
 // analytic low-frequency delay −d arg(θ/θref)/dω|0 (≈ 1/Kθ = 31 ms for Y; the slow closed-loop pole

@@ -42,9 +42,9 @@ namespace scanhead
 ///   controller, \f$i_{ref} = K_\infty(\theta_{ref} - \theta) + i_{ff}\f$ (HinfPositionController, error in degrees);
 ///   the feedforwards and the current PI as above, its integral held by the same anti-windup.
 /// \brief Constants of CascadeController::update, precomputed from the gains and the period
-/// (T = double; or a vector of doubles, one lane per axis, when two controllers run in lockstep).
-/// Products that update() forms left to right first (K2·Jeq/Kc, Ke·K1) and 1 − a are kept as
-/// computed there, so the precomputation changes no bit.
+/// (T = double; or a vector of doubles, one lane per axis, when two controllers run in lockstep):
+/// the discretised gains above, and p_w, p_i, p_u, the gains of each loop's error in its own sample
+/// (cascadeControllerUpdate: the measurements reach the voltage through three multiply-adds).
 template <class T>
 struct CascadeControllerCoefficients
 {
@@ -65,6 +65,9 @@ struct CascadeControllerCoefficients
   T l_h;       ///< L
   T ke_k1;     ///< Ke·K1
   T supply_v;  ///< saturation [V]
+  T p_w;       ///< Kθ(1 + pd_b): ω_ref per radian of e_θ this sample
+  T p_i;       ///< Kiω(1 + cw): i_ref per rad/s of e_ω this sample
+  T p_u;       ///< Kii(1 + ci): U per ampere of e_i this sample
 };
 
 /// \brief The controller's memory (T as in CascadeControllerCoefficients).
