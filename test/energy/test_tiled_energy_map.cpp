@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -51,6 +52,16 @@ EnergyConfig withCache(std::size_t bytes)
   cfg.tile_cache_bytes = bytes;
   return cfg;
 }
+
+/// The map of serpentine(seed) in a 1 MiB cache (64 tiles: most of them spilled).
+std::unique_ptr<EnergyAccumulator> spilledSerpentine(unsigned seed)
+{
+  auto acc = std::make_unique<EnergyAccumulator>(withCache(1 << 20), Eigen::Vector2d(-0.3e-3, -0.3e-3),
+                                                 Eigen::Vector2d(6.3e-3, 6.0e-3));
+  acc->process(serpentine(seed));
+  acc->finish();
+  return acc;
+}
 }  // namespace
 
 // Spilling tiles to the file and reading them back changes no float: a 1 MiB cache (64 tiles)
@@ -88,11 +99,8 @@ TEST(TiledEnergyMap, SpillsLeaveTheValuesBitIdentical)
 // reads brings tiles back, and with no pass at all.
 TEST(TiledEnergyMap, PeaksNearEqualPeakNear)
 {
-  const SpotChunk path = serpentine(4);
-  EnergyAccumulator acc(withCache(1 << 20), Eigen::Vector2d(-0.3e-3, -0.3e-3), Eigen::Vector2d(6.3e-3, 6.0e-3));
-  acc.process(path);
-  acc.finish();
-  const TiledEnergyMap& map = acc.map();
+  const std::unique_ptr<EnergyAccumulator> acc = spilledSerpentine(4);
+  const TiledEnergyMap& map = acc->map();
   ASSERT_GT(map.tilesSpilled(), 100u);
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> x(-0.5e-3, 6.5e-3), y(-0.5e-3, 6.2e-3), r(0.0, 80e-6);
@@ -157,19 +165,16 @@ TEST(TiledEnergyMap, WholeFieldCostsOnlyWhatTheSpotTouches)
 // region() is the matching slice of the dense map, clipped at the edges.
 TEST(TiledEnergyMap, RegionIsTheDenseSlice)
 {
-  const SpotChunk path = serpentine(5);
-  EnergyAccumulator acc(withCache(1 << 20), Eigen::Vector2d(-0.3e-3, -0.3e-3), Eigen::Vector2d(6.3e-3, 6.0e-3));
-  acc.process(path);
-  acc.finish();
-  const EnergyMap dense = acc.map().toDense();
-  const EnergyMap part = acc.map().region(100, 50, 300, 200);
+  const std::unique_ptr<EnergyAccumulator> acc = spilledSerpentine(5);
+  const EnergyMap dense = acc->map().toDense();
+  const EnergyMap part = acc->map().region(100, 50, 300, 200);
   ASSERT_EQ(part.width(), 300);
   ASSERT_EQ(part.height(), 200);
-  EXPECT_NEAR(part.origin().x(), acc.map().origin().x() + 100 * acc.map().pixel(), 1e-15);
+  EXPECT_NEAR(part.origin().x(), acc->map().origin().x() + 100 * acc->map().pixel(), 1e-15);
   for (int r = 0; r < 200; r += 7)
     for (int c = 0; c < 300; c += 5)
       ASSERT_EQ(part.at(c, r), dense.at(c + 100, r + 50));
-  const EnergyMap clipped = acc.map().region(-10, -10, 50, 50);
+  const EnergyMap clipped = acc->map().region(-10, -10, 50, 50);
   EXPECT_EQ(clipped.width(), 40);
   EXPECT_EQ(clipped.at(0, 0), dense.at(0, 0));
 }
@@ -180,11 +185,8 @@ TEST(TiledEnergyMap, RegionIsTheDenseSlice)
 // nearly so, so this catches a pixel missed or added rather than an order changed.)
 TEST(TiledEnergyMap, BlockMeansAreThePixelSums)
 {
-  const SpotChunk path = serpentine(6);
-  EnergyAccumulator acc(withCache(1 << 20), Eigen::Vector2d(-0.3e-3, -0.3e-3), Eigen::Vector2d(6.3e-3, 6.0e-3));
-  acc.process(path);
-  acc.finish();
-  const TiledEnergyMap& map = acc.map();
+  const std::unique_ptr<EnergyAccumulator> acc = spilledSerpentine(6);
+  const TiledEnergyMap& map = acc->map();
   const EnergyMap dense = map.toDense();
   const std::int64_t side = TiledEnergyMap::kTileSide;
   for (int f : {1, 2, 3, 7, 30})
