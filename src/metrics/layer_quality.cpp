@@ -277,6 +277,7 @@ void LayerQuality::nearestPathPass(const NearestPathIndex& index, unsigned threa
   struct Part
   {
     PathTimeline::Cursor cursor;
+    NearestPathHint hint;  ///< the leaf of the part's last query (consecutive points share it)
     std::vector<double> distance;
     std::vector<Kind> kind;
   };
@@ -291,7 +292,7 @@ void LayerQuality::nearestPathPass(const NearestPathIndex& index, unsigned threa
       const double bound = !path_gapped_ && j < path_.size()
                                ? sameInstantDistance(path_, static_cast<std::size_t>(j), c.point)
                                : INFINITY;
-      part.distance[k - k0] = index.distance(c.point, bound);
+      part.distance[k - k0] = index.distance(c.point, bound, nullptr, &part.hint);
       part.kind[k - k0] = c.kind;
     }
   };

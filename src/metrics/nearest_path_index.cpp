@@ -322,23 +322,52 @@ void NearestPathIndex::emitLeaf(const std::vector<std::uint32_t>& elements)
   items_.insert(items_.end(), elements.begin(), elements.end());
 }
 
-double NearestPathIndex::distance(const Eigen::Vector2d& p, double upper_bound_m, NearestPathWork* work) const
+double NearestPathIndex::distance(const Eigen::Vector2d& p, double upper_bound_m, NearestPathWork* work,
+                                  NearestPathHint* hint) const
 {
   if (!p.allFinite())
     throw InputError("contour error: commanded point " + pointText(p) + " m is not finite");
   if (!(upper_bound_m >= 0.0))
     throw InputError("contour error: upper bound " + fullPrecisionText(upper_bound_m) + " m is negative or NaN");
   double best = upper_bound_m;
-  if (!grids_.empty())
-    search(0, p, best, work);
+  if (grids_.empty())
+    return best;
+  if (hint && p.x() - best >= hint->x0 && p.x() + best <= hint->x1 && p.y() - best >= hint->y0 &&
+      p.y() + best <= hint->y1)
+  {
+    // The bound's disc lies inside the last leaf: no segment outside it can be nearer than the bound.
+    if (work && hint->begin < hint->end)
+    {
+      ++work->cells_visited;
+      work->segments_tested += hint->end - hint->begin;
+    }
+    return hint->begin < hint->end ? leafDistance(hint->begin, hint->end, p, best) : best;
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  search(0, p, best, work, hint, Box{-inf, -inf, inf, inf});
   return best;
 }
 
-void NearestPathIndex::search(std::size_t grid, const Eigen::Vector2d& p, double& best, NearestPathWork* work) const
+double NearestPathIndex::leafDistance(std::uint32_t begin, std::uint32_t end, const Eigen::Vector2d& p,
+                                      double best) const
+{
+  // min over the cell of √(d²) = √(min d²) (√ is monotone and correctly rounded): one root per cell.
+  double best2 = std::numeric_limits<double>::infinity();
+  for (std::uint32_t k = begin; k < end; ++k)
+    best2 = std::min(best2, elementDistance(items_[k], p));
+  return std::min(best, std::sqrt(best2));
+}
+
+void NearestPathIndex::search(std::size_t grid, const Eigen::Vector2d& p, double& best, NearestPathWork* work,
+                              NearestPathHint* hint, const Box& within) const
 {
   const Grid& g = grids_[grid];
   if (boxDistance(p, g.rx0, g.ry0, g.rx1, g.ry1) >= best)
     return;
+  // The part of the plane whose segments this grid lists all: its region within its ancestors' (a refined cell's
+  // grid covers that cell's box, whose last row and column may reach past its own grid's region).
+  const Box area{std::max(within.x0, g.rx0), std::max(within.y0, g.ry0), std::min(within.x1, g.rx1),
+                 std::min(within.y1, g.ry1)};
   const double h = g.cell_m;
   const long nx = g.nx, ny = g.ny;
   const long ci = cellOf(p.x(), g.x0, g.inv_cell, g.nx);
@@ -346,7 +375,7 @@ void NearestPathIndex::search(std::size_t grid, const Eigen::Vector2d& p, double
   const double ex1 = g.x0 + nx * h, ey1 = g.y0 + ny * h;
   const auto visit = [&](long i, long j) {
     if (boxDistance(p, g.x0 + i * h, g.y0 + j * h, g.x0 + (i + 1) * h, g.y0 + (j + 1) * h) < best)
-      visitCell(g, static_cast<std::size_t>(j * nx + i), p, best, work);
+      visitCell(g, static_cast<std::size_t>(j * nx + i), p, best, work, nullptr, area);
   };
   const long rmax = std::max({ci, nx - 1 - ci, cj, ny - 1 - cj});
   for (long r = 0; r <= rmax; ++r)
@@ -373,7 +402,24 @@ void NearestPathIndex::search(std::size_t grid, const Eigen::Vector2d& p, double
     }
     if (r == 0)
     {
-      visit(ci, cj);
+      // The cell of p (clamped to the grid): the hint records it if it is a leaf that holds p, its box clipped to
+      // the area whose segments the grid lists.
+      const bool holds = p.x() >= g.x0 + ci * h && p.x() <= g.x0 + (ci + 1) * h && p.y() >= g.y0 + cj * h &&
+                         p.y() <= g.y0 + (cj + 1) * h;
+      const std::size_t cell = static_cast<std::size_t>(cj * nx + ci);
+      if (hint && holds)
+      {
+        const std::uint32_t begin = offsets_[g.first_offset + cell], end = offsets_[g.first_offset + cell + 1];
+        if (begin == end || !(items_[begin] & kChildFlag))
+          *hint = NearestPathHint{std::max(g.x0 + ci * h, area.x0),
+                                  std::max(g.y0 + cj * h, area.y0),
+                                  std::min(g.x0 + (ci + 1) * h, area.x1),
+                                  std::min(g.y0 + (cj + 1) * h, area.y1),
+                                  begin,
+                                  end};
+      }
+      if (boxDistance(p, g.x0 + ci * h, g.y0 + cj * h, g.x0 + (ci + 1) * h, g.y0 + (cj + 1) * h) < best)
+        visitCell(g, cell, p, best, work, holds ? hint : nullptr, area);
       continue;
     }
     if (cj - r >= 0)
@@ -393,7 +439,7 @@ void NearestPathIndex::search(std::size_t grid, const Eigen::Vector2d& p, double
 }
 
 void NearestPathIndex::visitCell(const Grid& g, std::size_t cell, const Eigen::Vector2d& p, double& best,
-                                 NearestPathWork* work) const
+                                 NearestPathWork* work, NearestPathHint* hint, const Box& within) const
 {
   const std::uint32_t begin = offsets_[g.first_offset + cell];
   const std::uint32_t end = offsets_[g.first_offset + cell + 1];
@@ -403,14 +449,10 @@ void NearestPathIndex::visitCell(const Grid& g, std::size_t cell, const Eigen::V
     ++work->cells_visited;
   if (items_[begin] & kChildFlag)
   {
-    search(items_[begin] & ~kChildFlag, p, best, work);
+    search(items_[begin] & ~kChildFlag, p, best, work, hint, within);
     return;
   }
-  // min over the cell of √(d²) = √(min d²) (√ is monotone and correctly rounded): one root per cell.
-  double best2 = std::numeric_limits<double>::infinity();
-  for (std::uint32_t k = begin; k < end; ++k)
-    best2 = std::min(best2, elementDistance(items_[k], p));
-  best = std::min(best, std::sqrt(best2));
+  best = leafDistance(begin, end, p, best);
   if (work)
     work->segments_tested += end - begin;
 }

@@ -111,6 +111,7 @@ inline SizeResult runSize(std::size_t n)
 
   const std::size_t last = n > lag ? n - lag : 0;  // commanded points with a same-instant sample
   const std::size_t chunks = 50, chunk = std::max<std::size_t>(1, last / chunks);
+  NearestPathHint hint;  // as the layer metrics query: the last leaf kept from point to point
   for (std::size_t begin = 0; begin < last; begin += chunk)
   {
     const std::size_t end = std::min(last, begin + chunk);
@@ -124,7 +125,7 @@ inline SizeResult runSize(std::size_t n)
     for (std::size_t k = begin; k < end; ++k)
     {
       const Eigen::Vector2d p = commanded.point(k);
-      r.stats_hinted.add(index.distance(p, sameInstantDistance(actual, k + lag, p)));
+      r.stats_hinted.add(index.distance(p, sameInstantDistance(actual, k + lag, p), nullptr, &hint));
     }
     auto d = Clock::now();
     r.same_instant.chunk(end - begin, seconds(b - a));

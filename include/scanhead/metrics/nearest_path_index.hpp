@@ -20,6 +20,14 @@ struct NearestPathWork
   std::uint64_t segments_tested = 0;  ///< point-to-segment distances computed
 };
 
+/// \brief The leaf cell that held the last query's point (NearestPathIndex::distance): consecutive points of a path
+/// fall in the same leaf, and a point whose bound disc lies inside it needs that leaf alone. One per thread of queries.
+struct NearestPathHint
+{
+  double x0 = 0.0, y0 = 0.0, x1 = -1.0, y1 = -1.0;  ///< the leaf cell's box [m] (empty: no leaf yet)
+  std::uint32_t begin = 0, end = 0;                 ///< its segment ids in the index
+};
+
 /// \brief Spatial index over the segments of a PathPoints for exact nearest-path distance queries
 /// (definition (a)).
 ///
@@ -57,9 +65,14 @@ public:
   /// returns min(exact distance, upper_bound_m). An empty path returns upper_bound_m.
   /// \param[in] upper_bound_m a known upper bound (e.g. the same-instant error) prunes the search
   /// \param[out] work if not null, incremented by the work done
+  /// \param[in,out] hint if not null: the leaf cell of the previous query. When the disc of radius upper_bound_m
+  ///                 around \p p lies inside that cell, only its segments are read: every segment nearer than
+  ///                 the bound meets the disc, so crosses the cell, so is listed in it (supercover), and the result
+  ///                 is the one of the full search bit for bit (a minimum of the same distances). Else the full
+  ///                 search, which records the leaf holding \p p.
   /// \throws InputError if \p p is not finite or \p upper_bound_m is negative or NaN
   double distance(const Eigen::Vector2d& p, double upper_bound_m = std::numeric_limits<double>::infinity(),
-                  NearestPathWork* work = nullptr) const;
+                  NearestPathWork* work = nullptr, NearestPathHint* hint = nullptr) const;
 
   std::size_t indexedSegments() const { return indexed_segments_; }  ///< after dropping repeats
   std::size_t pathPoints() const { return path_points_; }            ///< points indexed
@@ -81,8 +94,13 @@ private:
   bool buildGrid(const std::vector<std::uint32_t>& elements, const Box& region, int depth, bool top);
   void removeDuplicates(std::vector<std::uint32_t>& elements) const;
   void emitLeaf(const std::vector<std::uint32_t>& elements);
-  void search(std::size_t grid, const Eigen::Vector2d& p, double& best, NearestPathWork* work) const;
-  void visitCell(const Grid& g, std::size_t cell, const Eigen::Vector2d& p, double& best, NearestPathWork* work) const;
+  /// \param[in] within the intersection of the regions of the grid's ancestors (for the hint's box)
+  void search(std::size_t grid, const Eigen::Vector2d& p, double& best, NearestPathWork* work, NearestPathHint* hint,
+              const Box& within) const;
+  void visitCell(const Grid& g, std::size_t cell, const Eigen::Vector2d& p, double& best, NearestPathWork* work,
+                 NearestPathHint* hint, const Box& within) const;
+  /// \brief min(best, distance to the segments items_[begin, end)).
+  double leafDistance(std::uint32_t begin, std::uint32_t end, const Eigen::Vector2d& p, double best) const;
   double elementDistance(std::uint32_t element, const Eigen::Vector2d& p) const;  ///< squared [m²]
   void elementEnds(std::uint32_t element, Eigen::Vector2d& a, Eigen::Vector2d& b) const;
 
