@@ -422,7 +422,7 @@ EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int6
         // Each output pixel adds its map pixels in column order (the same additions as one += per
         // pixel, so the same bits), without a division per pixel. The whole blocks inside [cc0, cc1)
         // are summed four at a time: four independent chains of adds overlap instead of waiting on one
-        // another (full resolution and small factors: 2.5× faster; the overview of a layer reads ~1e9
+        // another (full resolution and small factors: ~3× faster; the overview of a layer reads ~1e9
         // pixels).
         const std::int64_t whole0 = c0 + ((cc0 - c0 + f - 1) / f) * f;  // first block starting at or after cc0
         const std::int64_t whole1 = c0 + ((cc1 - c0) / f) * f;          // end of the last block ending by cc1

@@ -21,11 +21,14 @@ struct NearestPathWork
 };
 
 /// \brief The leaf cell that held the last query's point (NearestPathIndex::distance): consecutive points of a path
-/// fall in the same leaf, and a point whose bound disc lies inside it needs that leaf alone. One per thread of queries.
+/// fall in the same leaf, and a point whose bound disc lies inside it needs that leaf alone. One per thread of queries
+/// and per index.
 struct NearestPathHint
 {
-  double x0 = 0.0, y0 = 0.0, x1 = -1.0, y1 = -1.0;  ///< the leaf cell's box [m] (empty: no leaf yet)
-  std::uint32_t begin = 0, end = 0;                 ///< its segment ids in the index
+  /// The leaf cell's box clipped to the regions of its grid and of that grid's ancestors, where the leaf lists every
+  /// segment that crosses it [m] (empty: no leaf yet).
+  double x0 = 0.0, y0 = 0.0, x1 = -1.0, y1 = -1.0;
+  std::uint32_t begin = 0, end = 0;  ///< its segment ids in the index
 };
 
 /// \brief Spatial index over the segments of a PathPoints for exact nearest-path distance queries
