@@ -593,11 +593,13 @@ TEST(ContourErrorStats, MergeEqualsAddingAll)
 
 // Not timed: the segments tested per query near a 100 µm serpentine stay bounded as n grows
 // 100-fold, on a compact hatch and on hatches scattered over a 350 mm field; memory stays O(n).
-// The leaf hint (queries in path order, each bounded): the distances of the full search bit for bit on a hatch whose
-// index is refined two or three levels deep, with bounds from 0 to 40 µm (most below 5 µm, as contour errors are), and
-// the hint spares reading cells. (The case that made the hint's box the leaf's clipped to all its ancestors' regions,
-// not to its own grid's alone — a refined cell's grid reaching past its parent cell, 2 of the THESIS layer's 30.5 M
-// queries — needs a geometry this test does not build; the layer's dumped path was checked query by query.)
+// The leaf hint: the distances of the full search bit for bit. (1) Queries in path order, each bounded, on a hatch
+// whose index is refined two or three levels deep, bounds from 0 to 40 µm (most below 5 µm, as contour errors are):
+// the hint spares reading cells. (2) A random walk of 5 µm steps filling a 1 mm square (refined everywhere), each
+// random point queried twice, the second time bounded just above its distance so that the hint's leaf must hold the
+// nearest segment: this catches a hint box clipped to its own grid's region only instead of all its ancestors' (a
+// refined cell's grid reaches past its parent cell; that version gave 1–2 wrong distances in 200 000 such queries for
+// most seeds, and 2 of the THESIS layer's 30.5 M).
 TEST(NearestPathIndex, LeafHintGivesTheFullSearch)
 {
   std::mt19937_64 rng(seed() + 17);
@@ -620,6 +622,29 @@ TEST(NearestPathIndex, LeafHintGivesTheFullSearch)
   std::cout << "[hint] cells read a query " << double(with.cells_visited) / queries << " (full search "
             << double(without.cells_visited) / queries << ")\n";
   EXPECT_LT(with.cells_visited, without.cells_visited * 9 / 10);
+
+  PathPoints walk;
+  Vector2d at(0.0, 0.0);
+  for (int k = 0; k < 100000; ++k)
+  {
+    const double a = 2 * M_PI * uni(rng);
+    at = (at + 5e-6 * Vector2d(std::cos(a), std::sin(a)))
+             .cwiseMax(Vector2d(-5e-4, -5e-4))
+             .cwiseMin(Vector2d(5e-4, 5e-4));
+    walk.add(at);
+  }
+  const NearestPathIndex walk_index(walk);
+  NearestPathHint walk_hint;
+  std::size_t hinted = 0;
+  for (int q = 0; q < 400000; ++q)
+  {
+    const Vector2d p(5e-4 * (2 * uni(rng) - 1), 5e-4 * (2 * uni(rng) - 1));
+    const double d = walk_index.distance(p, std::numeric_limits<double>::infinity(), nullptr, &walk_hint);
+    NearestPathWork w;
+    ASSERT_EQ(walk_index.distance(p, d * (1 + 1e-7) + 1e-13, &w, &walk_hint), d) << q;
+    hinted += w.cells_visited <= 1 ? 1 : 0;
+  }
+  EXPECT_GT(hinted, 100000u);
 }
 
 TEST(NearestPathIndex, WorkPerQueryStaysBoundedAsPathGrows)
