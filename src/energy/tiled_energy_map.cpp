@@ -433,22 +433,16 @@ EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int6
           for (std::int64_t c = from; c < to; ++c)
             s += in[c];
         };
-        if (whole0 >= whole1)
-        {
-          // cc0..cc1 within one block or across the edge of two
-          addPart(cc0, std::min(cc1, whole0));
-          addPart(std::max(cc0, whole0), cc1);
-          continue;
-        }
-        addPart(cc0, whole0);
-        double* const block_sum = out_row + (whole0 - c0) / f;
-        const float* const block_in = in + whole0;
-        const std::int64_t blocks = (whole1 - whole0) / f;
+        // The head (part of a block, or all of [cc0, cc1) when it lies within one block), the whole blocks, the tail.
+        const std::int64_t head_end = std::min(cc1, whole0);
+        addPart(cc0, head_end);
+        const std::int64_t blocks = whole1 > whole0 ? (whole1 - whole0) / f : 0;
         std::int64_t b = 0;
         for (; b + 4 <= blocks; b += 4)
         {
-          double s0 = block_sum[b], s1 = block_sum[b + 1], s2 = block_sum[b + 2], s3 = block_sum[b + 3];
-          const float* const p = block_in + b * f;
+          double* const block_sum = out_row + (whole0 - c0) / f + b;
+          double s0 = block_sum[0], s1 = block_sum[1], s2 = block_sum[2], s3 = block_sum[3];
+          const float* const p = in + whole0 + b * f;
           for (std::int64_t k = 0; k < f; ++k)
           {
             s0 += p[k];
@@ -456,19 +450,14 @@ EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int6
             s2 += p[2 * f + k];
             s3 += p[3 * f + k];
           }
-          block_sum[b] = s0;
-          block_sum[b + 1] = s1;
-          block_sum[b + 2] = s2;
-          block_sum[b + 3] = s3;
+          block_sum[0] = s0;
+          block_sum[1] = s1;
+          block_sum[2] = s2;
+          block_sum[3] = s3;
         }
         for (; b < blocks; ++b)
-        {
-          double s0 = block_sum[b];
-          for (std::int64_t k = 0; k < f; ++k)
-            s0 += block_in[b * f + k];
-          block_sum[b] = s0;
-        }
-        addPart(whole1, cc1);
+          addPart(whole0 + b * f, whole0 + (b + 1) * f);
+        addPart(std::max(head_end, whole1), cc1);
       }
     }
     // Output rows whose map rows all lie below the next band: complete.

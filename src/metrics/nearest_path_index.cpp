@@ -341,7 +341,7 @@ double NearestPathIndex::distance(const Eigen::Vector2d& p, double upper_bound_m
       ++work->cells_visited;
       work->segments_tested += hint->end - hint->begin;
     }
-    return hint->begin < hint->end ? leafDistance(hint->begin, hint->end, p, best) : best;
+    return leafDistance(hint->begin, hint->end, p, best);  // an empty leaf: best
   }
   const double inf = std::numeric_limits<double>::infinity();
   search(0, p, best, work, hint, Box{-inf, -inf, inf, inf});
@@ -404,21 +404,21 @@ void NearestPathIndex::search(std::size_t grid, const Eigen::Vector2d& p, double
     {
       // The cell of p (clamped to the grid): the hint records it if it is a leaf that holds p, its box clipped to
       // the area whose segments the grid lists.
-      const bool holds = p.x() >= g.x0 + ci * h && p.x() <= g.x0 + (ci + 1) * h && p.y() >= g.y0 + cj * h &&
-                         p.y() <= g.y0 + (cj + 1) * h;
+      const double cx0 = g.x0 + ci * h, cy0 = g.y0 + cj * h, cx1 = g.x0 + (ci + 1) * h, cy1 = g.y0 + (cj + 1) * h;
+      const bool holds = p.x() >= cx0 && p.x() <= cx1 && p.y() >= cy0 && p.y() <= cy1;
       const std::size_t cell = static_cast<std::size_t>(cj * nx + ci);
       if (hint && holds)
       {
         const std::uint32_t begin = offsets_[g.first_offset + cell], end = offsets_[g.first_offset + cell + 1];
         if (begin == end || !(items_[begin] & kChildFlag))
-          *hint = NearestPathHint{std::max(g.x0 + ci * h, area.x0),
-                                  std::max(g.y0 + cj * h, area.y0),
-                                  std::min(g.x0 + (ci + 1) * h, area.x1),
-                                  std::min(g.y0 + (cj + 1) * h, area.y1),
+          *hint = NearestPathHint{std::max(cx0, area.x0),
+                                  std::max(cy0, area.y0),
+                                  std::min(cx1, area.x1),
+                                  std::min(cy1, area.y1),
                                   begin,
                                   end};
       }
-      if (boxDistance(p, g.x0 + ci * h, g.y0 + cj * h, g.x0 + (ci + 1) * h, g.y0 + (cj + 1) * h) < best)
+      if (boxDistance(p, cx0, cy0, cx1, cy1) < best)
         visitCell(g, cell, p, best, work, holds ? hint : nullptr, area);
       continue;
     }
