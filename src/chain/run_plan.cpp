@@ -43,6 +43,7 @@ constexpr double kServoSecondsPerStep = 0.065e-6;      // one cascade controller
 constexpr double kSecondsPerFirTap = 2.0e-9;           // a box FIR's sum, per tap and sample (all filters)
 constexpr double kEnergySecondsPerSample = 1.5e-6;     // the layer metrics and the map's bookkeeping
 constexpr double kSecondsPerPixel = 9.0e-9;            // a pixel of the band estimate below (≈ 2 weights computed)
+constexpr double kSecondsPerNodeWeight = 0.4e-9;       // trapezoid: a weight of a node's square, weighed and added
 constexpr double kSetupSeconds = 0.02;                 // the stages' reset and the metrics' last pass
 constexpr double kThermalSamplesPerSecond = 3.0e4;
 // The actual path leaves the command by up to tens of µm at corners (the servo's following error).
@@ -388,14 +389,19 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
   plan.map_tiles_resident = std::min(plan.map_tiles_touched, cache_tiles);
   plan.map_spill_bytes = (plan.map_tiles_touched - plan.map_tiles_resident) * side * side * 4.0;
 
-  // The deposit's work: pixel weights (exact: a band of rows along each mark; sampled: a footprint
-  // square per sub-step).
+  // The deposit's work: pixel weights (exact: a band of rows along each mark; trapezoid: a footprint square per
+  // node, a node per panel of at most w/2; sampled: a footprint square per sub-step).
   const double rows = 2.0 * radius / e.pixel_m;
   for (const PathSegment& s : timeline.segments())
   {
     if (!s.mark || s.power_w <= 0.0)
       continue;
-    if (e.method == "exact")
+    if (e.method == "trapezoid")
+    {
+      const double samples = std::max(1.0, s.duration_s / ts);
+      plan.pixels_drawn += std::max(samples, s.length_m / (0.25 * e.spot_diameter_m)) * rows * rows;
+    }
+    else if (e.method == "exact")
       plan.pixels_drawn += rows * (s.length_m / e.pixel_m + rows);
     else
     {
@@ -468,7 +474,9 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
   const double producer =
       plan.samples * (kProducerSecondsPerSample + kServoSecondsPerStep * (plan.controller_steps_per_sample - 1.0) +
                       kSecondsPerFirTap * taps);
-  const double energy = plan.samples * kEnergySecondsPerSample + plan.pixels_drawn * kSecondsPerPixel;
+  const double energy =
+      plan.samples * kEnergySecondsPerSample +
+      plan.pixels_drawn * (config.energy.method == "trapezoid" ? kSecondsPerNodeWeight : kSecondsPerPixel);
   double thermal = 0.0;
   if (config.thermal.enabled)
   {

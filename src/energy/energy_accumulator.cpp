@@ -2,6 +2,8 @@
 /// \brief The Gaussian-spot accumulator on the sparse map (SPEC §5): the stream's bookkeeping, the method chosen.
 #include "scanhead/energy/energy_accumulator.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "deposit_checks.hpp"
@@ -21,11 +23,14 @@ const EnergyConfig& validated(const EnergyConfig& config)
 EnergyAccumulator::EnergyAccumulator(const EnergyConfig& config, const Eigen::Vector2d& min_corner,
                                      const Eigen::Vector2d& max_corner)
   : config_(validated(config))
-  , exact_(config.method == "exact")
+  , method_(config.method == "exact"     ? Method::kExact
+            : config.method == "sampled" ? Method::kSampled
+                                         : Method::kTrapezoid)
   , map_(min_corner, max_corner, config.pixel_m, config.tile_cache_bytes, config.spill_dir)
   , sampled_(config)
   , merger_(config.stroke_tolerance_m, config.pixel_m)
   , stroke_deposit_(config)
+  , node_deposit_(config)
 {
   // The stencil of the nominal spot must be drawable (a larger one from defocus is checked per sample).
   const double rs = config_.truncation_radii * 0.5 * config_.spot_diameter_m / config_.pixel_m;
@@ -45,12 +50,17 @@ void EnergyAccumulator::reset()
   period_s_ = 0.0;
   outside_j_ = 0.0;
   merger_.reset();
+  chain_.reset();
   staged_.clear();
+  staged_nodes_.clear();
+  window_ends_.clear();
+  open_begin_ = 0;
+  open_ = NodeDeposit::OpenWindow();
   staged_pixels_ = 0.0;
   ready_count_ = ready_applied_ = staged_applied_ = 0;
   next_to_weigh_->store(0);
   stroke_deposit_.resetCounters();
-  samples_ = strokes_ = 0;
+  samples_ = strokes_ = nodes_ = 0;
 }
 
 void EnergyAccumulator::process(const SpotChunk& chunk)
@@ -85,8 +95,8 @@ void EnergyAccumulator::stage(const SpotChunk& chunk)
       {
         if (pending_.power_w > 0.0)
           deposit(pending_, s.actual, period_s_);
-        else if (exact_)
-          flushStroke();  // a stroke never runs through a sample without power
+        else
+          flushStroke();  // a stroke or chain never runs through a sample without power
       }
       pending_ = s;
       period_s_ = chunk.period_s;
@@ -97,8 +107,7 @@ void EnergyAccumulator::stage(const SpotChunk& chunk)
   {
     // The rest of the chunk is lost but already counted as taken: never join across it.
     has_pending_ = false;
-    if (exact_)
-      flushStroke();  // what was merged before the bad sample is deposited, as the sampled method deposits it
+    flushStroke();  // what was merged before the bad sample is deposited, as the sampled method deposits it
     throw;
   }
 }
@@ -110,8 +119,8 @@ void EnergyAccumulator::finish()
     deposit(pending_, pending_.actual, period_s_);
   }
   has_pending_ = false;
-  if (exact_)
-    flushStroke();
+  flushStroke();
+  closeWindow();
   drawStaged();
   map_.finishWrites();
 }
@@ -119,7 +128,7 @@ void EnergyAccumulator::finish()
 void EnergyAccumulator::deposit(const SpotSample& from, const Eigen::Vector2d& to, double period_s)
 {
   ++samples_;
-  if (!exact_)
+  if (method_ == Method::kSampled)
   {
     sampled_.deposit(map_, from, to, from.power_w * period_s, outside_j_);
     return;
@@ -130,6 +139,12 @@ void EnergyAccumulator::deposit(const SpotSample& from, const Eigen::Vector2d& t
   const SpotFootprint fp = spotFootprint(config_, from.direction);
   energy_detail::substepsOf(length, config_, fp);
   energy_detail::stencilRadius(config_, fp, map_.pixel());
+  if (method_ == Method::kTrapezoid)
+  {
+    chain_.add(from.actual, to, from.power_w, period_s, fp);
+    takeNodes();
+    return;
+  }
   Stroke done;
   if (merger_.add(from.actual, to, from.power_w, period_s, fp, done))
     drawStroke(done);
@@ -137,9 +152,65 @@ void EnergyAccumulator::deposit(const SpotSample& from, const Eigen::Vector2d& t
 
 void EnergyAccumulator::flushStroke()
 {
+  if (method_ == Method::kTrapezoid)
+  {
+    chain_.flush();
+    takeNodes();
+    return;
+  }
   Stroke done;
-  if (merger_.flush(done))
+  if (method_ == Method::kExact && merger_.flush(done))
     drawStroke(done);
+}
+
+void EnergyAccumulator::takeNodes()
+{
+  QuadratureNode node;
+  while (chain_.next(node))
+  {
+    if (open_.count > 0 && !node_deposit_.joins(open_, node, map_.pixel()))
+      closeWindow();
+    node_deposit_.add(open_, node, map_.pixel());
+    staged_nodes_.push_back(node);
+    ++nodes_;
+  }
+}
+
+void EnergyAccumulator::closeWindow()
+{
+  if (staged_nodes_.size() == open_begin_)
+    return;
+  ++strokes_;
+  window_ends_.push_back(staged_nodes_.size());
+  if (staged_weights_.size() < window_ends_.size())
+    staged_weights_.emplace_back();
+  // Weights of the window: the box of its centres grown by a footprint's square (its rows of whole blocks).
+  const double p = map_.pixel();
+  double reach = 0.0;
+  for (std::size_t k = open_begin_; k < staged_nodes_.size(); ++k)
+    reach = std::max(reach, 2.0 * config_.truncation_radii * staged_nodes_[k].footprint.major_radius_m / p + 2.0);
+  const Eigen::Vector2d box = (open_.hi - open_.lo) / p;
+  staged_pixels_ += (box.x() + reach + 16.0) * (box.y() + reach);
+  open_begin_ = staged_nodes_.size();
+  open_ = NodeDeposit::OpenWindow();
+  if (window_ends_.size() >= kMaxStagedStrokes || staged_pixels_ >= kMaxStagedPixels)
+    drawStaged();  // bounded memory whatever the chunk size
+}
+
+std::size_t EnergyAccumulator::stagedCount() const
+{
+  return method_ == Method::kTrapezoid ? window_ends_.size() : staged_.size();
+}
+
+void EnergyAccumulator::clearStaged()
+{
+  staged_.clear();
+  // The open window's nodes move to the front.
+  staged_nodes_.erase(staged_nodes_.begin(), staged_nodes_.begin() + static_cast<std::ptrdiff_t>(open_begin_));
+  window_ends_.clear();
+  open_begin_ = 0;
+  staged_pixels_ = 0.0;
+  next_to_weigh_->store(0);
 }
 
 void EnergyAccumulator::drawStroke(const Stroke& stroke)
@@ -159,8 +230,17 @@ void EnergyAccumulator::drawStroke(const Stroke& stroke)
 void EnergyAccumulator::weighStaged()
 {
   std::atomic<std::size_t>& next = *next_to_weigh_;
-  for (std::size_t k = next.fetch_add(1); k < staged_.size(); k = next.fetch_add(1))
-    stroke_deposit_.weigh(map_, staged_[k], staged_weights_[k]);
+  const std::size_t count = stagedCount();
+  for (std::size_t k = next.fetch_add(1); k < count; k = next.fetch_add(1))
+  {
+    if (method_ == Method::kTrapezoid)
+    {
+      const std::size_t begin = k == 0 ? 0 : window_ends_[k - 1];
+      node_deposit_.weigh(map_, staged_nodes_.data() + begin, window_ends_[k] - begin, staged_weights_[k]);
+    }
+    else
+      stroke_deposit_.weigh(map_, staged_[k], staged_weights_[k]);
+  }
 }
 
 namespace
@@ -184,23 +264,19 @@ void applyBatch(StrokeDeposit& deposit, TiledEnergyMap& map, std::vector<StrokeW
 void EnergyAccumulator::applyStaged()
 {
   applyReady();  // the batch set aside came first in the stream
-  applyBatch(stroke_deposit_, map_, staged_weights_, staged_.size(), staged_applied_, outside_j_);
+  applyBatch(stroke_deposit_, map_, staged_weights_, stagedCount(), staged_applied_, outside_j_);
   staged_applied_ = 0;
-  staged_.clear();
-  staged_pixels_ = 0.0;
-  next_to_weigh_->store(0);
+  clearStaged();
 }
 
 void EnergyAccumulator::retireStaged()
 {
   applyReady();  // at most one batch waits
   std::swap(staged_weights_, ready_weights_);
-  ready_count_ = staged_.size();
+  ready_count_ = stagedCount();
   ready_applied_ = staged_applied_;  // 0: a batch is retired whole
   staged_applied_ = 0;
-  staged_.clear();
-  staged_pixels_ = 0.0;
-  next_to_weigh_->store(0);
+  clearStaged();
 }
 
 void EnergyAccumulator::applyReady()

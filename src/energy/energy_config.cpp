@@ -33,8 +33,8 @@ void EnergyConfig::validate() const
                  ">= energy.spot_diameter_m/100 = " + significantText(kMinPixelPerDiameter * spot_diameter_m, 6) +
                      " m (finer resolves nothing more; the work a sample grows as (d/pixel)²)",
                  pixel_m);
-  if (method != "exact" && method != "sampled")
-    throw ConfigError("energy.method must be exact or sampled (got '" + method + "')");
+  if (method != "trapezoid" && method != "exact" && method != "sampled")
+    throw ConfigError("energy.method must be trapezoid, exact or sampled (got '" + method + "')");
   // Above 1 µm a merged stroke could misplace the deposit by 5 % of its peak (1.77·tol/w at w = 35 µm).
   requireSetting(stroke_tolerance_m >= 0.0 && stroke_tolerance_m <= 1.0e-6, "energy.stroke_tolerance_m",
                  "in [0, 1e-6] m", stroke_tolerance_m);

@@ -30,6 +30,12 @@ SCANHEAD_LANE_INLINE F8 laneIndex()
   return F8{0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f};
 }
 
+/// \brief {0, 1, …, 7} as integers.
+SCANHEAD_LANE_INLINE I8 laneIndexInt()
+{
+  return I8{0, 1, 2, 3, 4, 5, 6, 7};
+}
+
 /// \brief Adds the lanes of \p value below \p count (a row's last, partial block) to \p sum.
 SCANHEAD_LANE_INLINE void accumulate(F8& sum, F8 value, int count)
 {

@@ -1,6 +1,7 @@
 // benchmark_energy_trackers: throughput of each tracker the energy stage runs beside the map
 // (stream counter, corners, laser settling, laser placement, plot trace, layer quality and its
-// nearest-path pass), and of the servo models, on a job's real stream.
+// nearest-path pass), of the energy map alone by each deposit method, and of the servo models, on a
+// job's real stream.
 // Not a test and not run by the suite. Times are the thread's CPU time (CLOCK_THREAD_CPUTIME_ID),
 // so other processes on the cores matter less; run it on a quiet machine all the same.
 //
@@ -26,6 +27,7 @@
 #include "scanhead/chain/energy_stage.hpp"
 #include "scanhead/chain/trace_recorder.hpp"
 #include "scanhead/common/package_path.hpp"
+#include "scanhead/energy/energy_accumulator.hpp"
 #include "scanhead/job/formats/job_io.hpp"
 #include "scanhead/job/job_files.hpp"
 #include "scanhead/metrics/contour_error.hpp"
@@ -161,6 +163,27 @@ int main(int argc, char** argv)
     Eigen::Vector2d lo, hi;
     jobMapBounds(job, config.energy.map_margin_m, lo, hi);
     const double lag = config.energy.contour_lag_s >= 0.0 ? config.energy.contour_lag_s : actual_delay;
+
+    // The energy map alone, each deposit method (one thread; the pixels it adds to the map, a measure of its work).
+    for (const char* method : {"trapezoid", "exact", "sampled"})
+    {
+      EnergyConfig energy = config.energy;
+      energy.method = method;
+      const std::string name = std::string("EnergyAccumulator ") + method;
+      double pixels = 0.0;
+      report(name.c_str(), samples, repeat, [&] {
+        EnergyAccumulator acc(energy, lo, hi);
+        const double t = timed([&] {
+          for (const SpotChunk& c : chunks)
+            acc.process(c);
+          acc.finish();
+        });
+        pixels = static_cast<double>(acc.pixelsDrawn());
+        return t;
+      });
+      if (std::string(name).compare(0, g_only.size(), g_only) == 0 && pixels > 0.0)
+        std::printf("  (%.0f pixels added to the map, %.0f a sample)\n", pixels, pixels / samples);
+    }
 
     report("StreamCounter", samples, repeat, [&] {
       StreamCounter counter;

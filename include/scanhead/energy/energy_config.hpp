@@ -18,10 +18,12 @@ struct EnergyConfig
 
   double spot_diameter_m = 70.0e-6;  ///< 1/e² diameter 2w of the Gaussian spot [m] (THESIS §2.5)
   double pixel_m = 5.0e-6;           ///< map pixel pitch [m]
-  /// How each sample's energy reaches the map: "exact" (the footprint integrated in closed form along the segment
-  /// to the next sample, consecutive samples of one straight constant-velocity stroke merged: segment_integral.hpp,
-  /// stroke_merger.hpp) or "sampled" (point-sampled at sub-steps of max_substep_radii: sampled_deposit.hpp).
-  std::string method = "exact";
+  /// How each sample's energy reaches the map: "trapezoid" (the time integral along the path by the trapezoid rule
+  /// at the samples with the kinks' Euler–Maclaurin shift: node_chain.hpp, node_deposit.hpp), "exact" (the footprint
+  /// integrated in closed form along the segment to the next sample, consecutive samples of one straight
+  /// constant-velocity stroke merged: segment_integral.hpp, stroke_merger.hpp) or "sampled" (point-sampled at
+  /// sub-steps of max_substep_radii: sampled_deposit.hpp).
+  std::string method = "trapezoid";
   double stroke_tolerance_m = 1.0e-8;  ///< exact: samples within this of the ideal constant-velocity stroke merge
                                        ///< (error ≤ 1.77·tol/w of the peak)
   double max_substep_radii =
