@@ -3,7 +3,6 @@
 #include "scanhead/energy/energy_accumulator.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <sstream>
 
 #include "deposit_checks.hpp"

@@ -73,7 +73,7 @@ public:
   static constexpr double kMaxStagedPixels = 8.0 * 1024 * 1024;  ///< 32 MB of float weights
   const TiledEnergyMap& map() const { return map_; }
   double energyOutsideMap() const { return outside_j_; }  ///< footprint energy that fell off the map [J]
-  /// \brief Samples that carried energy to the map (exact and sampled).
+  /// \brief Samples that carried energy to the map (every method).
   std::uint64_t samplesDeposited() const { return samples_; }
   /// \brief exact: strokes drawn (samplesDeposited() / strokesDeposited() samples merged per stroke); trapezoid:
   /// windows of nodes drawn; sampled: 0.

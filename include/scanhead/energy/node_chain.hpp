@@ -44,10 +44,10 @@ struct QuadratureNode
 ///
 /// Errors, relative to the peak of a straight track (P/v)·I₀·w·√(π/2) at w the spot radius (minor), h ≤ w/2:
 /// - straight constant-speed run: the aliasing of Gaussians h apart, 2·exp(−π²w²/(2h²)) ≤ 5.4e-9 (Poisson summation);
-/// - a kink of velocity change δv between panels: the Taylor remainder W·εᵀHε/2, ε = τδv/12: ≤ 3e-4 even for a
-///   square 90° corner at h = 0.29w (10 µm steps, w = 35 µm), far less on the servo's rounded paths;
-/// - a chain's end: ≤ 9e-5 (above);
-/// - a change of panel length (the speed crossing a multiple of w/2 a sample) leaves ε ≈ h/12: ≤ 1e-4.
+/// - a kink (velocity change δv between panels, ε = τδv/12): the shift's Taylor remainder W·εᵀHε/2, about
+///   1.6·(h/w)·(ε/w)² ≤ 8e-5 for ε ≤ kMaxKinkShiftRadii·w; a sharper kink, a power step or a change of panel length
+///   (ε ≈ h/12) ends the chain instead;
+/// - a chain's end: ≤ 9e-5 (above).
 /// A dwell (zero-length segment) is one node, its energy at its point, and ends the chain before it. The footprint of
 /// a vertex is that of its right panel's sample (the chain's last vertex: its left's). Chains break where the laser
 /// stops (flush), where a segment does not start where the previous ended, and at a vertex whose shift would exceed

@@ -13,9 +13,10 @@
 
 namespace scanhead
 {
-/// \brief Draws a window of nodes (node_chain.hpp): the weights e_j·G_j(r − c_j) at the pixel centres of the
-/// rectangle that holds every node's square of half-side R = truncation_radii·w_major, each node normalised so that
-/// its weights sum to e_j (its energy; the share on pixels off the map goes to the caller's outside energy).
+/// \brief Draws a window of nodes (node_chain.hpp): the weights e_j·G_j(r − c_j) at the pixel centres of each node's
+/// square of half-side R = truncation_radii·w_major, each node normalised so that its weights sum to e_j (its energy;
+/// the share on pixels off the map goes to the caller's outside energy), summed over the window's rectangle and kept
+/// as one row a map row, trimmed to the columns some node reached.
 ///
 /// A node's Gaussian exp(−q_xx x² − 2q_xy xy − q_yy y²) is a sum of outer products of a column and a row vector:
 ///
@@ -23,19 +24,20 @@ namespace scanhead
 ///
 /// exact for a circular spot or an ellipse along the map's axes (M = 1). With ρ = |q_xy|/√(q_xx q_yy) (the oblique
 /// footprint's skew: ≈ sin θ_x sin θ_y), the first omitted term is at most ρ^M·(M/e)^M/M! ≈ ρ^M/√(2πM) of the peak
-/// (u = q_xx x², v = q_yy y²: |2q_xy xy| ≤ ρ(u + v) and max s^M e^{−s} = (M/e)^M); M is the least with that ≤ 1e-6
-/// (ρ ≤ 0.0165: M = 3; ρ = 0.14 at 30° of incidence on the diagonal: M = 6). The 1-D Gaussians are second-order
-/// recurrences from the pixel nearest the centre (row_kernels.hpp), in double; the window's pixels add the nodes'
-/// products in float, node after node, in the same order on every thread and vector width. Compared with a stroke's
-/// closed form (stroke_deposit.hpp) a node costs no exponential a pixel: 2R/p columns × 2R/p rows × M products
-/// (≈ 1 200 at w = 35 µm, 5 µm pixels), and the map is touched once a window, not once a node.
+/// (u = q_xx x², v = q_yy y²: |2q_xy xy| ≤ ρ(u + v) and max s^M e^{−s} = (M/e)^M); M is the least with that ≤ 4e-5,
+/// which keeps the node within 1.2e-4 of its Gaussian (test_trapezoid_deposit.cpp: M = 1 at normal incidence or
+/// along an axis, 3 at 10° on the diagonal, 5 at 30°). The 1-D Gaussians come in float lanes (lane_math.hpp's expf
+/// every 8 blocks, second-order recurrences between); the window's pixels add the nodes' products in float, node
+/// after node, 8 columns at a time on blocks aligned to the window's grid, in the same order on every thread and
+/// vector width (AVX2 and default clones: the same bits). A node costs (2R/p)² × M products (1 225 × M at w = 35 µm,
+/// 5 µm pixels) and no exponential a pixel; the map is touched once a window, not once a node.
 class NodeDeposit
 {
 public:
   static constexpr std::size_t kWindowNodes = 32;       ///< most nodes in one window
   static constexpr double kWindowSpanPixels = 48.0;     ///< the nodes' centres span at most this (or a footprint)
   static constexpr double kMaxWindowRadiusPixels = 64;  ///< a node with a larger R is drawn alone
-  static constexpr int kMaxRank = 24;                   ///< most outer products a node (ρ ≤ 0.6 meets 1e-6)
+  static constexpr int kMaxRank = 24;                   ///< most outer products a node (enough for ρ ≤ 0.73)
 
   explicit NodeDeposit(const EnergyConfig& config);
   /// \brief The nodes of a window being filled: their count and the box of their centres.
@@ -46,7 +48,7 @@ public:
     bool alone = false;  ///< its node is drawn alone (a footprint beyond kMaxWindowRadiusPixels)
   };
   /// \brief Whether \p node may join \p window (count > 0) on a map of pixel \p pixel_m; if not, the caller closes the
-  /// window and starts a new one with start().
+  /// window and starts a new one.
   bool joins(const OpenWindow& window, const QuadratureNode& node, double pixel_m) const;
   /// \brief Adds \p node to \p window (after joins() said yes, or to an empty window).
   void add(OpenWindow& window, const QuadratureNode& node, double pixel_m) const;
