@@ -162,6 +162,20 @@ SCANHEAD_LANE_INLINE void addOuterProducts(float* __restrict rows, std::size_t s
       }
       continue;
     }
+    if (rank == 2)
+    {
+      const F8 a1 = splat(a[a_stride + static_cast<std::size_t>(j)]);
+      for (int b = 0; b < blocks; ++b)
+      {
+        F8 g0, g1, v;
+        std::memcpy(&g0, g + 8 * b, sizeof g0);
+        std::memcpy(&g1, g + g_stride + 8 * b, sizeof g1);
+        std::memcpy(&v, row + 8 * b, sizeof v);
+        v += a0 * g0 + a1 * g1;
+        std::memcpy(row + 8 * b, &v, sizeof v);
+      }
+      continue;
+    }
     for (int b = 0; b < blocks; ++b)
     {
       F8 gb, v;
