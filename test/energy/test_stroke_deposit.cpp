@@ -453,14 +453,14 @@ TEST(StrokeDeposit, ChunkInvariance)
 
 // The two-thread form (stage, weighStaged on two threads, applyStaged: what EnergyStage does with stream.threads = 2)
 // gives the map of process(), bit for bit, at any chunking, also when a chunk stages more than kMaxStagedStrokes
-// strokes or windows (exact: one stroke a sample, the power alternates; trapezoid: 40 000 samples, ~32 nodes a
+// strokes or windows (exact: one stroke a sample, the power alternates; trapezoid: 100 000 samples, ≤ 64 nodes a
 // window) and stage() draws them itself.
 TEST(StrokeDeposit, StagedOnTwoThreadsEqualsProcess)
 {
   for (const char* method : {"exact", "trapezoid"})
   {
     const bool exact = std::string(method) == "exact";
-    const int samples = exact ? 4000 : 40000;
+    const int samples = exact ? 4000 : 100000;
     Stream s = mixedPath();
     Eigen::Vector2d x(0.5e-3, 0.5e-3), v(1.5, 0.3);
     for (int k = 0; k < samples; ++k)

@@ -34,8 +34,8 @@ namespace scanhead
 class NodeDeposit
 {
 public:
-  static constexpr std::size_t kWindowNodes = 32;       ///< most nodes in one window
-  static constexpr double kWindowSpanPixels = 48.0;     ///< the nodes' centres span at most this (or a footprint)
+  static constexpr std::size_t kWindowNodes = 64;       ///< most nodes in one window
+  static constexpr double kWindowSpanPixels = 96.0;     ///< the nodes' centres span at most this (or a footprint)
   static constexpr double kMaxWindowRadiusPixels = 64;  ///< a node with a larger R is drawn alone
   static constexpr int kMaxRank = 24;                   ///< most outer products a node (enough for ρ ≤ 0.73)
 
