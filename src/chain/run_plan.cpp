@@ -13,6 +13,7 @@
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/number_text.hpp"
 #include "scanhead/energy/map_regions.hpp"
+#include "scanhead/energy/node_chain.hpp"
 #include "scanhead/energy/tiled_energy_map.hpp"
 #include "scanhead/job/path_timeline.hpp"
 #include "scanhead/job/recipe.hpp"
@@ -399,7 +400,8 @@ RunPlan planRun(const ChainConfig& config, const Job& job, const OpticalModel& o
     if (e.method == "trapezoid")
     {
       const double samples = std::max(1.0, s.duration_s / ts);
-      plan.pixels_drawn += std::max(samples, s.length_m / (0.25 * e.spot_diameter_m)) * rows * rows;
+      const double panel = NodeChain::kMaxPanelRadii * 0.5 * e.spot_diameter_m;
+      plan.pixels_drawn += std::max(samples, s.length_m / panel) * rows * rows;
     }
     else if (e.method == "exact")
       plan.pixels_drawn += rows * (s.length_m / e.pixel_m + rows);

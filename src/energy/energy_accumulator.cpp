@@ -2,7 +2,6 @@
 /// \brief The Gaussian-spot accumulator on the sparse map (SPEC §5): the stream's bookkeeping, the method chosen.
 #include "scanhead/energy/energy_accumulator.hpp"
 
-#include <algorithm>
 #include <sstream>
 
 #include "deposit_checks.hpp"
@@ -181,18 +180,22 @@ void EnergyAccumulator::closeWindow()
     return;
   ++strokes_;
   window_ends_.push_back(staged_nodes_.size());
-  if (staged_weights_.size() < window_ends_.size())
-    staged_weights_.emplace_back();
   // Weights of the window: the box of its centres grown by a footprint's square (its rows of whole blocks).
   const double p = map_.pixel();
-  double reach = 0.0;
-  for (std::size_t k = open_begin_; k < staged_nodes_.size(); ++k)
-    reach = std::max(reach, 2.0 * config_.truncation_radii * staged_nodes_[k].footprint.major_radius_m / p + 2.0);
+  const double reach = 2.0 * config_.truncation_radii * open_.major_radius_m / p + 2.0;
   const Eigen::Vector2d box = (open_.hi - open_.lo) / p;
-  staged_pixels_ += (box.x() + reach + 16.0) * (box.y() + reach);
   open_begin_ = staged_nodes_.size();
   open_ = NodeDeposit::OpenWindow();
-  if (window_ends_.size() >= kMaxStagedStrokes || staged_pixels_ >= kMaxStagedPixels)
+  bookStaged((box.x() + reach + 16.0) * (box.y() + reach));
+}
+
+void EnergyAccumulator::bookStaged(double pixels)
+{
+  const std::size_t count = stagedCount();
+  if (staged_weights_.size() < count)
+    staged_weights_.emplace_back();
+  staged_pixels_ += pixels;
+  if (count >= kMaxStagedStrokes || staged_pixels_ >= kMaxStagedPixels)
     drawStaged();  // bounded memory whatever the chunk size
 }
 
@@ -216,14 +219,10 @@ void EnergyAccumulator::drawStroke(const Stroke& stroke)
 {
   ++strokes_;
   staged_.push_back(stroke);
-  if (staged_weights_.size() < staged_.size())
-    staged_weights_.emplace_back();
   // Weights of the capsule: ≤ (2R/p + 2) rows of ≤ (L + 2R)/p + 2 pixels, plus a block of 8 a row.
   const double p = map_.pixel();
   const double reach = 2.0 * config_.truncation_radii * stroke.footprint.major_radius_m / p + 2.0;
-  staged_pixels_ += reach * (stroke.displacement().norm() / p + reach + 8.0);
-  if (staged_.size() >= kMaxStagedStrokes || staged_pixels_ >= kMaxStagedPixels)
-    drawStaged();  // bounded memory whatever the chunk size
+  bookStaged(reach * (stroke.displacement().norm() / p + reach + 8.0));
 }
 
 void EnergyAccumulator::weighStaged()

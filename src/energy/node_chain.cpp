@@ -92,33 +92,30 @@ void NodeChain::queueEndRule(const Eigen::Vector2d& from, double sign, const Pan
 
 void NodeChain::emitPending(bool last)
 {
-  const Segment& s = segment_;
-  const double m = s.panels;
-  emitted_ = s;
+  emitted_ = segment_;
   emitted_left_ = left_;
-  emitted_panel_ = s.panel;
-  panels_ = static_cast<std::int64_t>(m);
   last_ = last;
   next_vertex_ = 0;
-  vertices_ = panels_ + (last ? 1 : 0);
-  if (s.first)
-    queueEndRule(s.start, 1.0, emitted_panel_);
+  vertices_ = static_cast<std::int64_t>(segment_.panels) + (last ? 1 : 0);
+  if (segment_.first)
+    queueEndRule(segment_.start, 1.0, segment_.panel);
   if (last)
-    queueEndRule(s.end, -1.0, emitted_panel_);
-  left_ = emitted_panel_;
+    queueEndRule(segment_.end, -1.0, segment_.panel);
+  left_ = segment_.panel;
 }
 
 QuadratureNode NodeChain::vertex(std::int64_t v) const
 {
-  const Panel& h = emitted_panel_;
+  const std::int64_t panels = static_cast<std::int64_t>(emitted_.panels);
+  const Panel& h = emitted_.panel;
   const Panel& l = v == 0 ? emitted_left_ : h;
-  const bool chain_start = v == 0 && emitted_.first, chain_end = v == panels_ && last_;
-  const double e_left = chain_start ? 0.0 : l.energy_j, e_right = v == panels_ ? 0.0 : h.energy_j;
+  const bool chain_start = v == 0 && emitted_.first, chain_end = v == panels && last_;
+  const double e_left = chain_start ? 0.0 : l.energy_j, e_right = v == panels ? 0.0 : h.energy_j;
   QuadratureNode n;
   n.footprint = emitted_.footprint;
-  n.centre = v == panels_ ? emitted_.end
-                          : Eigen::Vector2d(emitted_.start + (static_cast<double>(v) / static_cast<double>(panels_)) *
-                                                                 (emitted_.end - emitted_.start));
+  n.centre = v == panels ? emitted_.end
+                         : Eigen::Vector2d(emitted_.start + (static_cast<double>(v) / emitted_.panels) *
+                                                                (emitted_.end - emitted_.start));
   if (chain_start || chain_end)
   {
     n.energy_j = (0.5 + kEndVertexWeight) * (chain_start ? e_right : e_left);  // the rest: the end rule's nodes

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "lane_math.hpp"
+#include "row_kernels.hpp"
 
 namespace scanhead
 {
@@ -27,15 +28,8 @@ SCANHEAD_LANE_INLINE F8 splat(float x)
 // that (test_trapezoid_deposit.cpp: ≤ 1.2e-4 of the peak up to 30° of incidence).
 constexpr double kRankTolerance = 4.0e-5;
 
-/// \brief Pixel centres o + (i + 0.5)p within [a, b]: i from first(a) to last(b).
-double firstCentre(double a, double origin, double p)
-{
-  return std::ceil((a - origin) / p - 0.5);
-}
-double lastCentre(double b, double origin, double p)
-{
-  return std::floor((b - origin) / p - 0.5);
-}
+using energy_detail::firstCentre;
+using energy_detail::lastCentre;
 
 /// \brief ρ_m: the largest skew ρ = |q_xy|/√(q_xx q_yy) for which m outer products meet kRankTolerance, i.e. the
 /// first omitted term ρ^m·(m/e)^m/m! ≤ tolerance (node_deposit.hpp).
@@ -137,7 +131,9 @@ SCANHEAD_LANE_INLINE void axisGaussian(AxisLanes& axis, double centre, double or
 struct NodeScratch
 {
   AxisLanes x, y;
-  std::vector<float> a;  ///< the rows' factors a_m[j], like y.g
+  std::vector<float> a;                        ///< the rows' factors a_m[j], like y.g
+  std::vector<std::int32_t> span_lo, span_hi;  ///< the window's rows' spans (WindowGrid)
+  std::vector<double> sums;                    ///< their weights' sums
 };
 
 /// \brief rows[j][0 … 8·blocks) += Σ_m a[m·a_stride + j]·g[m·8·blocks + …], the products summed in m order, then
@@ -158,20 +154,6 @@ SCANHEAD_LANE_INLINE void addOuterProducts(float* __restrict rows, std::size_t s
         std::memcpy(&gb, g + 8 * b, sizeof gb);
         std::memcpy(&v, row + 8 * b, sizeof v);
         v += a0 * gb;
-        std::memcpy(row + 8 * b, &v, sizeof v);
-      }
-      continue;
-    }
-    if (rank == 2)
-    {
-      const F8 a1 = splat(a[a_stride + static_cast<std::size_t>(j)]);
-      for (int b = 0; b < blocks; ++b)
-      {
-        F8 g0, g1, v;
-        std::memcpy(&g0, g + 8 * b, sizeof g0);
-        std::memcpy(&g1, g + g_stride + 8 * b, sizeof g1);
-        std::memcpy(&v, row + 8 * b, sizeof v);
-        v += a0 * g0 + a1 * g1;
         std::memcpy(row + 8 * b, &v, sizeof v);
       }
       continue;
@@ -200,7 +182,6 @@ SCANHEAD_LANE_INLINE void addOuterProducts(float* __restrict rows, std::size_t s
 __attribute__((target_clones("avx2", "default"))) void drawNodes(const WindowGrid& w, const QuadratureNode* nodes,
                                                                  std::size_t count, NodeScratch& s)
 {
-  const auto& bounds = rankBounds();
   for (std::size_t k = 0; k < count; ++k)
   {
     const QuadratureNode& nd = nodes[k];
@@ -210,10 +191,7 @@ __attribute__((target_clones("avx2", "default"))) void drawNodes(const WindowGri
     axisRange(s.y, nd.centre.y(), radius, w.origin.y(), w.p);
     if (s.x.n == 0 || s.y.n == 0)
       continue;
-    const double rho = fp.qxy == 0.0 ? 0.0 : std::abs(fp.qxy) / std::sqrt(fp.qxx * fp.qyy);
-    int rank = 1;
-    while (rank < NodeDeposit::kMaxRank && rho > bounds[static_cast<std::size_t>(rank)])
-      ++rank;
+    const int rank = NodeDeposit::rank(fp);
     const std::int64_t row0 = s.y.first - w.row_lo, col0 = s.x.first - w.col_lo;
     axisGaussian(s.x, nd.centre.x(), w.origin.x(), w.p, fp.qxx, rank, static_cast<int>(col0 % 8));
     axisGaussian(s.y, nd.centre.y(), w.origin.y(), w.p, fp.qyy, rank, 0);
@@ -334,6 +312,7 @@ void NodeDeposit::add(OpenWindow& window, const QuadratureNode& node, double pix
     window.lo = window.lo.cwiseMin(node.centre);
     window.hi = window.hi.cwiseMax(node.centre);
   }
+  window.major_radius_m = std::max(window.major_radius_m, node.footprint.major_radius_m);
   ++window.count;
 }
 
@@ -385,16 +364,19 @@ void NodeDeposit::weigh(const TiledEnergyMap& map, const QuadratureNode* nodes, 
   window.assign(grid.stride * ny + 8, 0.0f);
   const std::size_t base = (32 - reinterpret_cast<std::uintptr_t>(window.data()) % 32) % 32 / sizeof(float);
   grid.window = window.data() + base;
-  std::vector<std::int32_t> span_lo(ny + 8, INT32_MAX), span_hi(ny + 8, INT32_MIN);
-  grid.span_lo = span_lo.data();
-  grid.span_hi = span_hi.data();
   thread_local std::unique_ptr<NodeScratch> scratch;
   if (!scratch)
     scratch = std::make_unique<NodeScratch>();
+  std::vector<std::int32_t>&span_lo = scratch->span_lo, &span_hi = scratch->span_hi;
+  span_lo.assign(ny + 8, INT32_MAX);
+  span_hi.assign(ny + 8, INT32_MIN);
+  grid.span_lo = span_lo.data();
+  grid.span_hi = span_hi.data();
   drawNodes(grid, nodes, count, *scratch);
 
   // One row a map row, trimmed to the columns some node reached.
-  std::vector<double> sums(ny);
+  std::vector<double>& sums = scratch->sums;
+  sums.assign(ny, 0.0);
   spanSums(grid.window, grid.stride, ny, span_lo.data(), span_hi.data(), sums.data());
   double total = 0.0;
   for (std::size_t j = 0; j < ny; ++j)

@@ -6,6 +6,16 @@
 
 namespace scanhead::energy_detail
 {
+/// \brief The pixel centres o + (i + 0.5)p within [a, b] along one axis: i from firstCentre(a) to lastCentre(b).
+inline double firstCentre(double a, double origin, double p)
+{
+  return std::ceil((a - origin) / p - 0.5);
+}
+inline double lastCentre(double b, double origin, double p)
+{
+  return std::floor((b - origin) / p - 0.5);
+}
+
 /// \brief 1-D Gaussian weights g[k] = exp(-a·d_k²), d_k = d_centre + (k − H)·p, k = 0..n−1 (n > H).
 ///
 /// Recurrence from the centre outwards (3 exps instead of 2H+1): with r_k = exp(-a(2 d_k p + p²)),

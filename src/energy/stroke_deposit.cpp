@@ -448,9 +448,8 @@ void StrokeDeposit::weigh(const TiledEnergyMap& map, const Stroke& stroke, Strok
   const double radius = config_.truncation_radii * fp.major_radius_m;
   const Eigen::Vector2d c0 = stroke.start, c1 = stroke.start + d;
 
-  // Pixel centres o + (i + 0.5)p within [a, b]: i from ceil((a − o)/p − 0.5) to floor((b − o)/p − 0.5).
-  auto first = [p](double a, double origin) { return std::ceil((a - origin) / p - 0.5); };
-  auto last = [p](double b, double origin) { return std::floor((b - origin) / p - 0.5); };
+  auto first = [p](double a, double origin) { return energy_detail::firstCentre(a, origin, p); };
+  auto last = [p](double b, double origin) { return energy_detail::lastCentre(b, origin, p); };
   const double row_lo = first(std::min(c0.y(), c1.y()) - radius, o.y());
   const double row_hi = last(std::max(c0.y(), c1.y()) + radius, o.y());
   const double col_lo = first(std::min(c0.x(), c1.x()) - radius, o.x());

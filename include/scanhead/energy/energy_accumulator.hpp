@@ -91,8 +91,11 @@ private:
   void flushStroke();                     ///< ends the pending stroke (exact) or chain (trapezoid)
   void takeNodes();                       ///< the chain's completed nodes into windows
   void closeWindow();                     ///< stages the open window
-  std::size_t stagedCount() const;        ///< strokes or windows staged
-  void clearStaged();                     ///< after a batch is applied or retired
+  /// \brief After a stroke or window was staged (~\p pixels weights): its weights slot; the staged batch drawn here
+  /// once it holds kMaxStagedStrokes items or kMaxStagedPixels weights.
+  void bookStaged(double pixels);
+  std::size_t stagedCount() const;  ///< strokes or windows staged
+  void clearStaged();               ///< after a batch is applied or retired
   enum class Method
   {
     kTrapezoid,

@@ -103,11 +103,10 @@ private:
   bool pending_ = false;
   Segment segment_;  ///< the pending segment (its end vertex waits for the next segment)
   Panel left_;       ///< the panel before the pending segment's start (energy 0 at a chain's start)
-  // The segment being emitted: its panels (m of `panel`), the one before, whether it ends the chain, the next vertex;
-  // and the end rules' nodes, given first.
+  // The segment being emitted, the panel before it, whether it ends the chain, its next vertex; and the end rules'
+  // nodes, given first.
   Segment emitted_;
-  Panel emitted_left_, emitted_panel_;
-  std::int64_t panels_ = 1;
+  Panel emitted_left_;
   bool last_ = false;
   std::int64_t next_vertex_ = 0, vertices_ = 0;
   QuadratureNode extra_[2 * kEndNodes + 1];  ///< + a dwell's node

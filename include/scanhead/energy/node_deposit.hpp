@@ -45,7 +45,8 @@ public:
   {
     std::size_t count = 0;
     Eigen::Vector2d lo = Eigen::Vector2d::Zero(), hi = Eigen::Vector2d::Zero();
-    bool alone = false;  ///< its node is drawn alone (a footprint beyond kMaxWindowRadiusPixels)
+    double major_radius_m = 0.0;  ///< the largest footprint's
+    bool alone = false;           ///< its node is drawn alone (a footprint beyond kMaxWindowRadiusPixels)
   };
   /// \brief Whether \p node may join \p window (count > 0) on a map of pixel \p pixel_m; if not, the caller closes the
   /// window and starts a new one.
