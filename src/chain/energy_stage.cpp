@@ -283,6 +283,7 @@ RunMetrics EnergyStage::finish()
   const std::vector<double> corner_peaks = peaksNear(accumulator_.map(), corner_points, corner_radii, [&] {
     track = trackEnergyProfile(accumulator_.map(), track_, config_.energy.track_exclude_ends_m, &mark_ends_);
   });
+  track_ = {};  // its last reader (up to track_max_samples · 80 B), before the map's views are read
   m.track_measured = track.interior_samples > 0;
   m.track_median_jpm2 = track.median_jpm2;
   m.track_mean_jpm2 = track.mean_jpm2;

@@ -326,7 +326,7 @@ LayerQualityReport LayerQuality::finish(unsigned threads)
   std::size_t index_bytes = 0;
   if (keep_path_ && !path_.empty())
   {
-    const NearestPathIndex index(path_);
+    const NearestPathIndex index(path_, threads);
     index_bytes = index.memoryBytes();
     nearestPathPass(index, threads);
   }
@@ -337,6 +337,9 @@ LayerQualityReport LayerQuality::finish(unsigned threads)
   report_.mark_speed_mean_ratio = speed_samples_ > 0.0 ? speed_ratio_sum_ / speed_samples_ : NAN;
   report_.memory_bytes =
       path_.memoryBytes() + index_bytes + fill_.memoryBytes() + timeline_.segments().capacity() * sizeof(PathSegment);
+  // The nearest-path pass was the path's last reader: its memory (8 B a sample, 244 MB on the THESIS layer) goes
+  // before the results are written.
+  path_ = PathPoints(path_.origin());
   return report_;
 }
 }  // namespace scanhead

@@ -3,13 +3,21 @@
 #include "scanhead/metrics/nearest_path_index.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <memory>
+#include <mutex>
+#include <new>
 #include <string>
 #include <tuple>
+
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include "contour_error_text.hpp"
 #include "scanhead/common/errors.hpp"
 #include "scanhead/common/segment_distance.hpp"
+#include "scanhead/common/side_thread.hpp"
 
 namespace scanhead
 {
@@ -25,6 +33,7 @@ constexpr double kTargetPerCell = 4.0;    ///< segments per cell a grid is sized
 constexpr std::size_t kRefineAbove = 12;  ///< a leaf with more segments is refined if that helps
 constexpr std::size_t kDeduplicateAbove = 8;
 constexpr int kMaxDepth = 10;
+constexpr std::size_t kParallelAbove = std::size_t(1) << 16;  ///< fewer segments: one thread (not worth a start)
 
 /// Distance from p to the box [x0, x1] × [y0, y1] (0 inside).
 inline double boxDistance(const Eigen::Vector2d& p, double x0, double y0, double x1, double y1)
@@ -75,8 +84,11 @@ void forEachCell(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double x0, 
 {
   const Eigen::Vector2d d = b - a;
   double t0 = 0.0, t1 = 1.0;
-  if (!clipAxis(a.x(), d.x(), x0 - margin, x0 + nx * h + margin, t0, t1) ||
-      !clipAxis(a.y(), d.y(), y0 - margin, y0 + ny * h + margin, t0, t1))
+  // A segment inside the grid (the usual case) keeps [0, 1] without the divisions: the clip box is wider by the margin.
+  const bool inside = std::min(a.x(), b.x()) >= x0 && std::max(a.x(), b.x()) <= x0 + nx * h &&
+                      std::min(a.y(), b.y()) >= y0 && std::max(a.y(), b.y()) <= y0 + ny * h;
+  if (!inside && (!clipAxis(a.x(), d.x(), x0 - margin, x0 + nx * h + margin, t0, t1) ||
+                  !clipAxis(a.y(), d.y(), y0 - margin, y0 + ny * h + margin, t0, t1)))
     return;
   const Eigen::Vector2d c0 = a + t0 * d;
   const Eigen::Vector2d c1 = a + t1 * d;
@@ -125,55 +137,35 @@ inline double NearestPathIndex::elementDistance(std::uint32_t element, const Eig
   return (a + t * ab - p).squaredNorm();
 }
 
-NearestPathIndex::NearestPathIndex(const PathPoints& path)
-  : path_(&path)
-  , path_points_(path.size())
+template <class F>
+void NearestPathIndex::forEachElement(F&& f) const
 {
+  // A zero-length segment whose point ends the previous segment adds nothing (by induction on i, the previous point
+  // is always covered).
+  const PathPoints& path = *path_;
   const std::size_t n = path.size();
-  if (n > kMaxPoints)
-  {
-    throw InputError("contour error: actual path of " + std::to_string(n) + " points is too long for the index (max " +
-                     std::to_string(kMaxPoints) + ")");
-  }
-  // Elements: segment i → i+1, or the isolated point i. A zero-length segment whose point ends the
-  // previous segment adds nothing (by induction on i, the previous point is always covered).
-  std::vector<std::uint32_t> elements;
-  elements.reserve(n);
-  Box box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-          -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   for (std::size_t i = 0; i < n; ++i)
   {
-    const Eigen::Vector2d a = path.point(i);
     const bool joins = path.joinsNext(i);
-    const bool zero_length = !joins || path.point(i + 1) == a;
+    const bool zero_length = !joins || path.point(i + 1) == path.point(i);
     if (zero_length && i > 0 && path.joinsNext(i - 1))
       continue;
-    elements.push_back(static_cast<std::uint32_t>(i) | (zero_length ? kPointFlag : 0u));
-    const Eigen::Vector2d b = zero_length ? a : path.point(i + 1);
-    box.x0 = std::min({box.x0, a.x(), b.x()});
-    box.y0 = std::min({box.y0, a.y(), b.y()});
-    box.x1 = std::max({box.x1, a.x(), b.x()});
-    box.y1 = std::max({box.y1, a.y(), b.y()});
+    f(static_cast<std::uint32_t>(i) | (zero_length ? kPointFlag : 0u));
   }
-  indexed_segments_ = elements.size();
-  if (elements.empty())
-    return;
-  duplicate_budget_ = 2 * elements.size();
-  buildGrid(elements, box, 0, true);
 }
 
-bool NearestPathIndex::buildGrid(const std::vector<std::uint32_t>& elements, const Box& region, int depth, bool top)
+template <class Each>
+NearestPathIndex::Grid NearestPathIndex::layGrid(const Each& each, std::size_t count, const Box& region) const
 {
-  const double k = static_cast<double>(elements.size());
+  const double k = static_cast<double>(count);
   const double w = region.x1 - region.x0;
   const double hgt = region.y1 - region.y0;
   double l1 = 0.0;
-  for (std::uint32_t e : elements)
-  {
+  each([&](std::uint32_t e) {
     Eigen::Vector2d a, b;
     elementEnds(e, a, b);
     l1 += std::min(std::abs(b.x() - a.x()), w) + std::min(std::abs(b.y() - a.y()), hgt);
-  }
+  });
   const double cells = std::clamp(k / kTargetPerCell, 1.0, static_cast<double>(kMaxCellsPerGrid));
   double h = std::max({std::sqrt(w * hgt / cells), std::max(w, hgt) / cells, l1 / (3.0 * k)});
   if (!(h > 0.0))
@@ -191,10 +183,215 @@ bool NearestPathIndex::buildGrid(const std::vector<std::uint32_t>& elements, con
   g.ry0 = region.y0;
   g.rx1 = region.x1;
   g.ry1 = region.y1;
+  return g;
+}
+
+namespace
+{
+/// Widening of a grid's cells when listing segments (rounding of the cell bounds).
+template <class Grid>
+double cellMargin(const Grid& g)
+{
+  return 1e-6 * g.cell_m + 1e-15 * (std::abs(g.x0) + std::abs(g.y0) + (g.rx1 - g.rx0) + (g.ry1 - g.ry0));
+}
+
+/// Anonymous pages of memory whose beginning can be handed back to the system while the rest is in use.
+class ReleasablePages
+{
+public:
+  explicit ReleasablePages(std::size_t bytes)
+    : bytes_(std::max<std::size_t>(bytes, 1))
+  {
+    data_ = ::mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (data_ == MAP_FAILED)
+      throw std::bad_alloc();
+  }
+  ~ReleasablePages() { ::munmap(data_, bytes_); }
+  ReleasablePages(const ReleasablePages&) = delete;
+  ReleasablePages& operator=(const ReleasablePages&) = delete;
+  void* data() const { return data_; }
+  /// The whole pages of [0, \p bytes) are no longer read: their memory goes back (they would read zero).
+  void releaseBelow(std::size_t bytes)
+  {
+    const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+    const std::size_t end = std::min(bytes, bytes_) / page * page;
+    if (end > released_)
+    {
+      ::madvise(static_cast<char*>(data_) + released_, end - released_, MADV_DONTNEED);
+      released_ = end;
+    }
+  }
+
+private:
+  std::size_t bytes_;
+  void* data_ = nullptr;
+  std::size_t released_ = 0;
+};
+
+[[noreturn]] void throwTooLarge()
+{
+  throw InputError("contour error: actual path too large for the index (more than 2^32 cell entries)");
+}
+}  // namespace
+
+NearestPathIndex::NearestPathIndex(const PathPoints& path, unsigned threads)
+  : path_(&path)
+  , path_points_(path.size())
+{
+  const std::size_t n = path.size();
+  if (n > kMaxPoints)
+  {
+    throw InputError("contour error: actual path of " + std::to_string(n) + " points is too long for the index (max " +
+                     std::to_string(kMaxPoints) + ")");
+  }
+  Box box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+          -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  forEachElement([&](std::uint32_t e) {
+    Eigen::Vector2d a, b;
+    elementEnds(e, a, b);
+    box.x0 = std::min({box.x0, a.x(), b.x()});
+    box.y0 = std::min({box.y0, a.y(), b.y()});
+    box.x1 = std::max({box.x1, a.x(), b.x()});
+    box.y1 = std::max({box.y1, a.y(), b.y()});
+    ++indexed_segments_;
+  });
+  if (indexed_segments_ > 0)
+    buildTop(indexed_segments_, box, threads);
+}
+
+void NearestPathIndex::buildTop(std::size_t count, const Box& region, unsigned threads)
+{
+  // The top grid, its cells' ids listed straight from the path (no array of all the ids) by counting sort into pages
+  // of their own, handed back to the system as the cells are refined (the parts grow as the lists go).
+  const auto each = [this](auto&& f) { forEachElement(f); };
+  Grid top = layGrid(each, count, region);
+  const std::size_t ncells = static_cast<std::size_t>(top.nx) * top.ny;
+  const double margin = cellMargin(top);
+  const auto cellsOf = [&](std::uint32_t e, auto&& f) {
+    Eigen::Vector2d a, b;
+    elementEnds(e, a, b);
+    forEachCell(a, b, top.x0, top.y0, top.cell_m, top.inv_cell, top.nx, top.ny, margin, f);
+  };
+  std::vector<std::size_t> start(ncells + 1, 0);
+  each([&](std::uint32_t e) { cellsOf(e, [&](std::size_t c) { ++start[c + 1]; }); });
+  for (std::size_t c = 0; c < ncells; ++c)
+    start[c + 1] += start[c];
+  if (start[ncells] > std::numeric_limits<std::uint32_t>::max())
+    throwTooLarge();
+  ReleasablePages sorted(start[ncells] * sizeof(std::uint32_t));
+  auto* ids = static_cast<std::uint32_t*>(sorted.data());
+  {
+    std::vector<std::size_t> next(start.begin(), start.end() - 1);
+    each([&](std::uint32_t e) { cellsOf(e, [&](std::size_t c) { ids[next[c]++] = e; }); });
+  }
+
+  // Each cell refined into its own part, in any order, on up to two threads: a part depends on its cell alone. The
+  // lists' pages below the first cell not yet done go back to the system.
+  std::vector<Part> parts(ncells);
+  std::vector<char> done(ncells, 0);
+  std::size_t first_pending = 0;
+  std::mutex release;
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
+  const auto work = [&] {
+    std::vector<std::uint32_t> cell;
+    for (std::size_t c = next++; c < ncells && !failed; c = next++)
+    {
+      Part& part = parts[c];
+      cell.assign(ids + start[c], ids + start[c + 1]);
+      if (!cell.empty())
+      {
+        part.duplicate_budget = 2 * cell.size();
+        buildCell(part, cell, top, c, 0);
+        part.grids.shrink_to_fit();
+        part.offsets.shrink_to_fit();
+        part.items.shrink_to_fit();
+      }
+      std::lock_guard<std::mutex> lock(release);
+      done[c] = 1;
+      while (first_pending < ncells && done[first_pending])
+        ++first_pending;
+      sorted.releaseBelow(start[first_pending] * sizeof(std::uint32_t));
+    }
+  };
+  std::unique_ptr<SideThread> side = threads >= 2 && count > kParallelAbove ? std::make_unique<SideThread>() : nullptr;
+  if (side)
+    side->start(work);
+  try
+  {
+    work();
+  }
+  catch (...)
+  {
+    failed = true;
+    if (side)
+    {
+      try
+      {
+        side->wait();
+      }
+      catch (...)  // the first error is the one reported
+      {
+      }
+    }
+    throw;
+  }
+  if (side)
+    side->wait();
+
+  // The index keeps the parts (no copy of their arrays): each grid points at its part's offsets and items, a part's
+  // grid numbers shifted past those before it; a top cell lists its refinement's grid, or its leaf (moved here).
+  std::size_t grids = 1;
+  for (const Part& part : parts)
+    grids += part.grids.size();
+  grids_.reserve(grids);
+  grids_.push_back(top);
+  top_.offsets.resize(ncells + 1);
+  for (std::size_t c = 0; c < ncells; ++c)
+  {
+    Part& part = parts[c];
+    if (top_.items.size() > std::numeric_limits<std::uint32_t>::max())
+      throwTooLarge();
+    top_.offsets[c] = static_cast<std::uint32_t>(top_.items.size());
+    largest_leaf_ = std::max(largest_leaf_, part.largest_leaf);
+    if (part.items.empty() || !(part.items.front() & kChildFlag))
+    {
+      top_.items.insert(top_.items.end(), part.items.begin(), part.items.end());
+      part = Part{};
+      continue;
+    }
+    const auto grid_base = static_cast<std::uint32_t>(grids_.size());
+    for (std::uint32_t& item : part.items)
+      if (item & kChildFlag)
+        item += grid_base;
+    top_.items.push_back(part.items.front());
+    for (Grid g : part.grids)
+    {
+      g.offsets = part.offsets.data() + g.first_offset;
+      g.items = part.items.data();
+      grids_.push_back(g);
+    }
+    part.grids = {};
+  }
+  top_.offsets[ncells] = static_cast<std::uint32_t>(top_.items.size());
+  top_.items.shrink_to_fit();
+  grids_.front().offsets = top_.offsets.data();
+  grids_.front().items = top_.items.data();
+  parts_ = std::move(parts);
+}
+
+bool NearestPathIndex::buildGrid(Part& part, const std::vector<std::uint32_t>& elements, const Box& region,
+                                 int depth) const
+{
+  const auto each = [&elements](auto&& f) {
+    for (std::uint32_t e : elements)
+      f(e);
+  };
+  Grid g = layGrid(each, elements.size(), region);
   const std::size_t ncells = static_cast<std::size_t>(g.nx) * g.ny;
-  if (!top && ncells < 2)
+  if (ncells < 2)
     return false;
-  const double margin = 1e-6 * h + 1e-15 * (std::abs(g.x0) + std::abs(g.y0) + w + hgt);
+  const double margin = cellMargin(g);
 
   // Counting sort, pass 1: ids per cell.
   std::vector<std::uint32_t> start(ncells + 1, 0);
@@ -202,25 +399,22 @@ bool NearestPathIndex::buildGrid(const std::vector<std::uint32_t>& elements, con
   {
     Eigen::Vector2d a, b;
     elementEnds(e, a, b);
-    forEachCell(a, b, g.x0, g.y0, h, g.inv_cell, g.nx, g.ny, margin, [&](std::size_t c) { ++start[c + 1]; });
+    forEachCell(a, b, g.x0, g.y0, g.cell_m, g.inv_cell, g.nx, g.ny, margin, [&](std::size_t c) { ++start[c + 1]; });
   }
   std::size_t total = 0, most = 0;
   for (std::size_t c = 0; c < ncells; ++c)
   {
     most = std::max<std::size_t>(most, start[c + 1]);
     total += start[c + 1];
-    start[c + 1] = static_cast<std::uint32_t>(total);
     if (total > std::numeric_limits<std::uint32_t>::max())
-      throw InputError("contour error: actual path too large for the index (more than 2^32 cell entries)");
+      throwTooLarge();
+    start[c + 1] = static_cast<std::uint32_t>(total);
   }
-  if (!top)
-  {
-    // Refine only if it splits the cell's contents and the duplicates fit the budget.
-    const std::size_t extra = total > elements.size() ? total - elements.size() : 0;
-    if (most >= elements.size() || extra > duplicate_budget_)
-      return false;
-    duplicate_budget_ -= extra;
-  }
+  // Refine only if it splits the cell's contents and the duplicates fit the budget.
+  const std::size_t extra = total > elements.size() ? total - elements.size() : 0;
+  if (most >= elements.size() || extra > part.duplicate_budget)
+    return false;
+  part.duplicate_budget -= extra;
   // Pass 2: fill.
   std::vector<std::uint32_t> sorted(total);
   {
@@ -229,69 +423,75 @@ bool NearestPathIndex::buildGrid(const std::vector<std::uint32_t>& elements, con
     {
       Eigen::Vector2d a, b;
       elementEnds(e, a, b);
-      forEachCell(a, b, g.x0, g.y0, h, g.inv_cell, g.nx, g.ny, margin, [&](std::size_t c) { sorted[next[c]++] = e; });
+      forEachCell(a, b, g.x0, g.y0, g.cell_m, g.inv_cell, g.nx, g.ny, margin,
+                  [&](std::size_t c) { sorted[next[c]++] = e; });
     }
   }
-  g.first_offset = offsets_.size();
-  grids_.push_back(g);
-  offsets_.resize(offsets_.size() + ncells + 1);
+  g.first_offset = part.offsets.size();
+  part.grids.push_back(g);
+  part.offsets.resize(part.offsets.size() + ncells + 1);
 
   std::vector<std::uint32_t> cell;
   for (std::size_t c = 0; c < ncells; ++c)
   {
-    const std::size_t here = items_.size();
+    const std::size_t here = part.items.size();
     if (here > std::numeric_limits<std::uint32_t>::max())
-      throw InputError("contour error: actual path too large for the index (more than 2^32 cell entries)");
-    offsets_[g.first_offset + c] = static_cast<std::uint32_t>(here);
+      throwTooLarge();
+    part.offsets[g.first_offset + c] = static_cast<std::uint32_t>(here);
     cell.assign(sorted.begin() + start[c], sorted.begin() + start[c + 1]);
-    if (cell.empty())
-      continue;
-    // Refine a crowded cell; if that does not split it, drop repeated segments (a spot at rest)
-    // and try again.
-    const auto refine = [&]() {
-      if (cell.size() <= kRefineAbove || depth >= kMaxDepth)
-        return false;
-      // The cell's box (widened by the margin) ∩ the box of its segments holds every part of them
-      // that lies in this cell: the child grid covers that.
-      const std::size_t ci = c % g.nx, cj = c / g.nx;
-      Box sub{g.x0 + ci * h - margin, g.y0 + cj * h - margin, g.x0 + (ci + 1) * h + margin,
-              g.y0 + (cj + 1) * h + margin};
-      Box ext{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-              -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-      for (std::uint32_t e : cell)
-      {
-        Eigen::Vector2d a, b;
-        elementEnds(e, a, b);
-        ext.x0 = std::min({ext.x0, a.x(), b.x()});
-        ext.y0 = std::min({ext.y0, a.y(), b.y()});
-        ext.x1 = std::max({ext.x1, a.x(), b.x()});
-        ext.y1 = std::max({ext.y1, a.y(), b.y()});
-      }
-      sub.x0 = std::max(sub.x0, ext.x0);
-      sub.y0 = std::max(sub.y0, ext.y0);
-      sub.x1 = std::min(sub.x1, ext.x1);
-      sub.y1 = std::min(sub.y1, ext.y1);
-      if (!(sub.x0 <= sub.x1 && sub.y0 <= sub.y1))
-        return false;
-      items_.push_back(kChildFlag | static_cast<std::uint32_t>(grids_.size()));
-      if (buildGrid(cell, sub, depth + 1, false))
-        return true;
-      items_.pop_back();
-      return false;
-    };
-    if (refine())
-      continue;
-    if (cell.size() > kDeduplicateAbove)
-    {
-      const std::size_t before = cell.size();
-      removeDuplicates(cell);
-      if (cell.size() < before && refine())
-        continue;
-    }
-    emitLeaf(cell);
+    if (!cell.empty())
+      buildCell(part, cell, g, c, depth);
   }
-  offsets_[g.first_offset + ncells] = static_cast<std::uint32_t>(items_.size());
+  part.offsets[g.first_offset + ncells] = static_cast<std::uint32_t>(part.items.size());
   return true;
+}
+
+void NearestPathIndex::buildCell(Part& part, std::vector<std::uint32_t>& cell, const Grid& g, std::size_t c,
+                                 int depth) const
+{
+  // Refine a crowded cell; if that does not split it, drop repeated segments (a spot at rest) and try again.
+  const auto refine = [&]() {
+    if (cell.size() <= kRefineAbove || depth >= kMaxDepth)
+      return false;
+    // The cell's box (widened by the margin) ∩ the box of its segments holds every part of them that lies in this
+    // cell: the child grid covers that.
+    const double h = g.cell_m, margin = cellMargin(g);
+    const std::size_t ci = c % g.nx, cj = c / g.nx;
+    Box sub{g.x0 + ci * h - margin, g.y0 + cj * h - margin, g.x0 + (ci + 1) * h + margin, g.y0 + (cj + 1) * h + margin};
+    Box ext{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+            -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (std::uint32_t e : cell)
+    {
+      Eigen::Vector2d a, b;
+      elementEnds(e, a, b);
+      ext.x0 = std::min({ext.x0, a.x(), b.x()});
+      ext.y0 = std::min({ext.y0, a.y(), b.y()});
+      ext.x1 = std::max({ext.x1, a.x(), b.x()});
+      ext.y1 = std::max({ext.y1, a.y(), b.y()});
+    }
+    sub.x0 = std::max(sub.x0, ext.x0);
+    sub.y0 = std::max(sub.y0, ext.y0);
+    sub.x1 = std::min(sub.x1, ext.x1);
+    sub.y1 = std::min(sub.y1, ext.y1);
+    if (!(sub.x0 <= sub.x1 && sub.y0 <= sub.y1))
+      return false;
+    part.items.push_back(kChildFlag | static_cast<std::uint32_t>(part.grids.size()));
+    if (buildGrid(part, cell, sub, depth + 1))
+      return true;
+    part.items.pop_back();
+    return false;
+  };
+  if (refine())
+    return;
+  if (cell.size() > kDeduplicateAbove)
+  {
+    const std::size_t before = cell.size();
+    removeDuplicates(cell);
+    if (cell.size() < before && refine())
+      return;
+  }
+  part.largest_leaf = std::max(part.largest_leaf, cell.size());
+  part.items.insert(part.items.end(), cell.begin(), cell.end());
 }
 
 void NearestPathIndex::removeDuplicates(std::vector<std::uint32_t>& elements) const
@@ -314,12 +514,6 @@ void NearestPathIndex::removeDuplicates(std::vector<std::uint32_t>& elements) co
     if (k == 0 || keyed[k].first != keyed[k - 1].first)
       elements.push_back(keyed[k].second);
   std::sort(elements.begin(), elements.end());
-}
-
-void NearestPathIndex::emitLeaf(const std::vector<std::uint32_t>& elements)
-{
-  largest_leaf_ = std::max(largest_leaf_, elements.size());
-  items_.insert(items_.end(), elements.begin(), elements.end());
 }
 
 double NearestPathIndex::distance(const Eigen::Vector2d& p, double upper_bound_m, NearestPathWork* work,
@@ -348,13 +542,13 @@ double NearestPathIndex::distance(const Eigen::Vector2d& p, double upper_bound_m
   return best;
 }
 
-double NearestPathIndex::leafDistance(std::uint32_t begin, std::uint32_t end, const Eigen::Vector2d& p,
+double NearestPathIndex::leafDistance(const std::uint32_t* begin, const std::uint32_t* end, const Eigen::Vector2d& p,
                                       double best) const
 {
   // min over the cell of √(d²) = √(min d²) (√ is monotone and correctly rounded): one root per cell.
   double best2 = std::numeric_limits<double>::infinity();
-  for (std::uint32_t k = begin; k < end; ++k)
-    best2 = std::min(best2, elementDistance(items_[k], p));
+  for (const std::uint32_t* k = begin; k < end; ++k)
+    best2 = std::min(best2, elementDistance(*k, p));
   return std::min(best, std::sqrt(best2));
 }
 
@@ -409,8 +603,9 @@ void NearestPathIndex::search(std::size_t grid, const Eigen::Vector2d& p, double
       const std::size_t cell = static_cast<std::size_t>(cj * nx + ci);
       if (hint && holds)
       {
-        const std::uint32_t begin = offsets_[g.first_offset + cell], end = offsets_[g.first_offset + cell + 1];
-        if (begin == end || !(items_[begin] & kChildFlag))
+        const std::uint32_t* begin = g.items + g.offsets[cell];
+        const std::uint32_t* end = g.items + g.offsets[cell + 1];
+        if (begin == end || !(*begin & kChildFlag))
           *hint = NearestPathHint{std::max(cx0, area.x0),
                                   std::max(cy0, area.y0),
                                   std::min(cx1, area.x1),
@@ -441,15 +636,15 @@ void NearestPathIndex::search(std::size_t grid, const Eigen::Vector2d& p, double
 void NearestPathIndex::visitCell(const Grid& g, std::size_t cell, const Eigen::Vector2d& p, double& best,
                                  NearestPathWork* work, NearestPathHint* hint, const Box& within) const
 {
-  const std::uint32_t begin = offsets_[g.first_offset + cell];
-  const std::uint32_t end = offsets_[g.first_offset + cell + 1];
+  const std::uint32_t* begin = g.items + g.offsets[cell];
+  const std::uint32_t* end = g.items + g.offsets[cell + 1];
   if (begin == end)
     return;
   if (work)
     ++work->cells_visited;
-  if (items_[begin] & kChildFlag)
+  if (*begin & kChildFlag)
   {
-    search(items_[begin] & ~kChildFlag, p, best, work, hint, within);
+    search(*begin & ~kChildFlag, p, best, work, hint, within);
     return;
   }
   best = leafDistance(begin, end, p, best);
@@ -459,7 +654,13 @@ void NearestPathIndex::visitCell(const Grid& g, std::size_t cell, const Eigen::V
 
 std::size_t NearestPathIndex::memoryBytes() const
 {
-  return sizeof(*this) + grids_.capacity() * sizeof(Grid) + offsets_.capacity() * sizeof(std::uint32_t) +
-         items_.capacity() * sizeof(std::uint32_t);
+  const auto arrays = [](const Part& part) {
+    return (part.offsets.capacity() + part.items.capacity()) * sizeof(std::uint32_t);
+  };
+  std::size_t bytes =
+      sizeof(*this) + grids_.capacity() * sizeof(Grid) + parts_.capacity() * sizeof(Part) + arrays(top_);
+  for (const Part& part : parts_)
+    bytes += arrays(part);
+  return bytes;
 }
 }  // namespace scanhead

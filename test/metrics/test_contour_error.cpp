@@ -674,3 +674,45 @@ TEST(NearestPathIndex, WorkPerQueryStaysBoundedAsPathGrows)
     }
   }
 }
+
+// The index built on two threads (its top cells refined in any order) is the one built on one: the same grids, leaves
+// and memory, every query the same distance after the same work, and both equal to a loop over all segments. The path
+// mixes a dense hatch, a random walk over it and a dwell, so parts are refined to different depths.
+TEST(NearestPathIndex, TwoThreadsBuildTheSameIndex)
+{
+  std::mt19937_64 rng(seed() + 29);
+  std::normal_distribution<double> gauss(0.0, 2e-5);
+  PathPoints path;
+  serpentine(path, Vector2d(-0.004, -0.004), 0.008, 1e-4, 1e-5, 300000);
+  path.breakPath();
+  Vector2d at(0.0, 0.0);
+  for (int k = 0; k < 100000; ++k)
+  {
+    at = (at + Vector2d(gauss(rng), gauss(rng))).cwiseMax(Vector2d(-0.005, -0.005)).cwiseMin(Vector2d(0.005, 0.005));
+    path.add(at);
+  }
+  for (int k = 0; k < 20000; ++k)
+    path.add(at);
+  const NearestPathIndex one(path, 1), two(path, 2);
+  ASSERT_GT(one.gridCount(), 1000u);
+  EXPECT_EQ(two.gridCount(), one.gridCount());
+  EXPECT_EQ(two.largestLeaf(), one.largestLeaf());
+  EXPECT_EQ(two.indexedSegments(), one.indexedSegments());
+  EXPECT_EQ(two.memoryBytes(), one.memoryBytes());
+  const auto segments = segmentsOf(path);
+  std::uniform_int_distribution<std::size_t> pick(0, path.size() - 1);
+  NearestPathHint hint_one, hint_two;
+  for (int q = 0; q < 20000; ++q)
+  {
+    const Vector2d p = path.point(pick(rng)) + Vector2d(gauss(rng), gauss(rng));
+    NearestPathWork work_one, work_two;
+    const double d = one.distance(p, std::numeric_limits<double>::infinity(), &work_one, &hint_one);
+    ASSERT_EQ(two.distance(p, std::numeric_limits<double>::infinity(), &work_two, &hint_two), d) << q;
+    ASSERT_EQ(work_two.cells_visited, work_one.cells_visited) << q;
+    ASSERT_EQ(work_two.segments_tested, work_one.segments_tested) << q;
+    if (q % 100 == 0)
+    {
+      ASSERT_NEAR(d, referenceNearest(segments, p), kIndexTolerance) << q;
+    }
+  }
+}

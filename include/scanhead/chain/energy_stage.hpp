@@ -39,6 +39,7 @@ public:
   void process(const SpotChunk& chunk);
   /// \brief Ends the stream and returns the run's metrics (with stream.threads = 2, the nearest-path
   /// pass on a second thread while the map is read: for the track's energy, the corner peaks, then mapViews()).
+  /// The last call: it frees the data only its figures read (the track samples, the actual path).
   RunMetrics finish();
 
   /// \brief The energy map: complete after finish() (with stream.threads = 2 the strokes of the last chunk processed

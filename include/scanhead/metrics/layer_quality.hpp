@@ -89,8 +89,9 @@ public:
                std::uint64_t total_samples, const Eigen::Vector2d& min_corner, const Eigen::Vector2d& max_corner);
   ~LayerQuality();
   void process(const SpotChunk& chunk);
-  /// \brief Ends the stream: the last same-instant points, the nearest-path pass, the report.
-  /// \param[in] threads 2: the nearest-path queries on two threads (the same report, bit for bit)
+  /// \brief Ends the stream: the last same-instant points, the nearest-path pass, the report. The last call: it frees
+  /// the actual path.
+  /// \param[in] threads 2: the nearest-path index built and queried on two threads (the same report, bit for bit)
   LayerQualityReport finish(unsigned threads = 1);
 
 private:

@@ -28,7 +28,8 @@ struct NearestPathHint
   /// The leaf cell's box clipped to the regions of its grid and of that grid's ancestors, where the leaf lists every
   /// segment that crosses it [m] (empty: no leaf yet).
   double x0 = 0.0, y0 = 0.0, x1 = -1.0, y1 = -1.0;
-  std::uint32_t begin = 0, end = 0;  ///< its segment ids in the index
+  const std::uint32_t* begin = nullptr;  ///< its segment ids in the index
+  const std::uint32_t* end = nullptr;
 };
 
 /// \brief Spatial index over the segments of a PathPoints for exact nearest-path distance queries
@@ -47,9 +48,13 @@ struct NearestPathHint
 ///   once, so an exact dwell costs one segment per query and a dwell jittering over 3 float values
 ///   per axis about ten. Limit: a dwell jittering over many float values (e.g. ±6 ulp) leaves a leaf
 ///   of all its distinct segments (~1000), tested by every query near it (exact, slower).
-/// - Memory O(n): refinements may duplicate at most 2 ids per indexed segment in total (beyond
-///   that, cells stay unrefined: slower, still exact); 6–18 B per point on hatches (8 at 1e7).
-/// - Build O(n · levels); query: ring search from the cell of p, stopped once the distance from p
+/// - Memory O(n): refinements may duplicate at most 2 ids per id of the top grid (beyond that, cells stay
+///   unrefined: slower, still exact); 6–18 B per point on hatches (8 at 1e7).
+/// - Build O(n · levels), on up to two threads: the top grid's cells are refined independently (each with its own
+///   duplicate budget, 2 ids per id it lists), so the index is the same whatever the thread count. Transient memory:
+///   the top grid's cell lists and the refined parts (about twice the final index), never the whole path's ids twice
+///   more (the THESIS layer: 30.5 M points).
+/// - Query: ring search from the cell of p, stopped once the distance from p
 ///   to the cells outside the rings read so far is ≥ the best distance found; a cell (or a refined
 ///   cell's box) is read only if its box is nearer than the best distance found. Measured: ~7
 ///   segments per query near a 1e7-point hatch, ~15–50 for points anywhere in a 350 mm field.
@@ -61,8 +66,13 @@ struct NearestPathHint
 class NearestPathIndex
 {
 public:
+  /// \param[in] threads 2 or more: the top grid's cells are refined on two threads (same index as one)
   /// \throws InputError if the path has more than 2^30 points (ids are 30-bit)
-  explicit NearestPathIndex(const PathPoints& path);
+  explicit NearestPathIndex(const PathPoints& path, unsigned threads = 1);
+  NearestPathIndex(const NearestPathIndex&) = delete;  // grids point into its own arrays
+  NearestPathIndex& operator=(const NearestPathIndex&) = delete;
+  NearestPathIndex(NearestPathIndex&&) = default;  // the arrays move, their contents stay put
+  NearestPathIndex& operator=(NearestPathIndex&&) = default;
 
   /// \brief Minimum distance from \p p to the indexed path [m], capped at \p upper_bound_m:
   /// returns min(exact distance, upper_bound_m). An empty path returns upper_bound_m.
@@ -90,20 +100,41 @@ private:
     double cell_m = 1, inv_cell = 1;
     std::uint32_t nx = 1, ny = 1;
     double rx0 = 0, ry0 = 0, rx1 = 0, ry1 = 0;  ///< box holding the parts of the segments it indexes [m]
-    std::size_t first_offset = 0;               ///< index of cell 0's offset in offsets_
+    std::size_t first_offset = 0;               ///< index of cell 0's offset in its part's offsets
+    const std::uint32_t* offsets = nullptr;     ///< nx·ny + 1 offsets into items (set once its part is done)
+    const std::uint32_t* items = nullptr;       ///< its part's items
   };
   struct Box;
+  /// \brief A top cell's refinement (its grids numbered from 0 until the index takes them), or the top grid itself.
+  struct Part
+  {
+    std::vector<Grid> grids;
+    std::vector<std::uint32_t> offsets;  ///< per grid: nx·ny + 1 offsets into items
+    std::vector<std::uint32_t> items;    ///< segment ids (bit 30: zero length) or bit 31 | child grid
+    std::size_t largest_leaf = 0;
+    std::size_t duplicate_budget = 0;  ///< ids its refinements may still add beyond their input
+  };
 
-  bool buildGrid(const std::vector<std::uint32_t>& elements, const Box& region, int depth, bool top);
+  /// \brief Calls f(element) for each indexed element of the path (segment i → i+1, or the isolated point i).
+  template <class F>
+  void forEachElement(F&& f) const;
+  /// \brief The grid over \p region sized for \p count elements (each(f) calls f on each).
+  template <class Each>
+  Grid layGrid(const Each& each, std::size_t count, const Box& region) const;
+  void buildTop(std::size_t count, const Box& region, unsigned threads);
+  /// \brief Refines a cell into \p part (false: no refinement splits it or fits the budget; nothing added).
+  bool buildGrid(Part& part, const std::vector<std::uint32_t>& elements, const Box& region, int depth) const;
+  /// \brief Appends cell \p c of \p g (a grid at \p depth) to \p part: a child grid, or a leaf of \p cell.
+  void buildCell(Part& part, std::vector<std::uint32_t>& cell, const Grid& g, std::size_t c, int depth) const;
   void removeDuplicates(std::vector<std::uint32_t>& elements) const;
-  void emitLeaf(const std::vector<std::uint32_t>& elements);
   /// \param[in] within the intersection of the regions of the grid's ancestors (for the hint's box)
   void search(std::size_t grid, const Eigen::Vector2d& p, double& best, NearestPathWork* work, NearestPathHint* hint,
               const Box& within) const;
   void visitCell(const Grid& g, std::size_t cell, const Eigen::Vector2d& p, double& best, NearestPathWork* work,
                  NearestPathHint* hint, const Box& within) const;
-  /// \brief min(best, distance to the segments items_[begin, end)).
-  double leafDistance(std::uint32_t begin, std::uint32_t end, const Eigen::Vector2d& p, double best) const;
+  /// \brief min(best, distance to the segments [begin, end)).
+  double leafDistance(const std::uint32_t* begin, const std::uint32_t* end, const Eigen::Vector2d& p,
+                      double best) const;
   double elementDistance(std::uint32_t element, const Eigen::Vector2d& p) const;  ///< squared [m²]
   void elementEnds(std::uint32_t element, Eigen::Vector2d& a, Eigen::Vector2d& b) const;
 
@@ -111,9 +142,8 @@ private:
   std::size_t path_points_ = 0;
   std::size_t indexed_segments_ = 0;
   std::size_t largest_leaf_ = 0;
-  std::size_t duplicate_budget_ = 0;  ///< ids refinements may still add beyond their input
-  std::vector<Grid> grids_;
-  std::vector<std::uint32_t> offsets_;  ///< per grid: nx·ny + 1 offsets into items_
-  std::vector<std::uint32_t> items_;    ///< segment ids (bit 30: zero length) or bit 31 | child grid
+  std::vector<Grid> grids_;  ///< the top grid, then each part's grids in cell order
+  Part top_;                 ///< the top grid's offsets and items (a refined cell: bit 31 | its grid)
+  std::vector<Part> parts_;  ///< per top cell: the offsets and items of its grids
 };
 }  // namespace scanhead
