@@ -58,6 +58,11 @@ inline std::uint32_t cellOf(double v, double lo, double inv_cell, std::uint32_t 
 struct NearestPathIndex::Box
 {
   double x0, y0, x1, y1;
+  static Box empty()
+  {
+    const double inf = std::numeric_limits<double>::infinity();
+    return Box{inf, inf, -inf, -inf};
+  }
 };
 
 namespace
@@ -122,6 +127,16 @@ inline void NearestPathIndex::elementEnds(std::uint32_t element, Eigen::Vector2d
   const std::size_t i = element & kIdMask;
   a = path_->point(i);
   b = (element & kPointFlag) ? a : path_->point(i + 1);
+}
+
+inline void NearestPathIndex::extend(Box& box, std::uint32_t element) const
+{
+  Eigen::Vector2d a, b;
+  elementEnds(element, a, b);
+  box.x0 = std::min({box.x0, a.x(), b.x()});
+  box.y0 = std::min({box.y0, a.y(), b.y()});
+  box.x1 = std::max({box.x1, a.x(), b.x()});
+  box.y1 = std::max({box.y1, a.y(), b.y()});
 }
 
 inline double NearestPathIndex::elementDistance(std::uint32_t element, const Eigen::Vector2d& p) const
@@ -244,15 +259,9 @@ NearestPathIndex::NearestPathIndex(const PathPoints& path, unsigned threads)
     throw InputError("contour error: actual path of " + std::to_string(n) + " points is too long for the index (max " +
                      std::to_string(kMaxPoints) + ")");
   }
-  Box box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-          -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  Box box = Box::empty();
   forEachElement([&](std::uint32_t e) {
-    Eigen::Vector2d a, b;
-    elementEnds(e, a, b);
-    box.x0 = std::min({box.x0, a.x(), b.x()});
-    box.y0 = std::min({box.y0, a.y(), b.y()});
-    box.x1 = std::max({box.x1, a.x(), b.x()});
-    box.y1 = std::max({box.y1, a.y(), b.y()});
+    extend(box, e);
     ++indexed_segments_;
   });
   if (indexed_segments_ > 0)
@@ -458,17 +467,9 @@ void NearestPathIndex::buildCell(Part& part, std::vector<std::uint32_t>& cell, c
     const double h = g.cell_m, margin = cellMargin(g);
     const std::size_t ci = c % g.nx, cj = c / g.nx;
     Box sub{g.x0 + ci * h - margin, g.y0 + cj * h - margin, g.x0 + (ci + 1) * h + margin, g.y0 + (cj + 1) * h + margin};
-    Box ext{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-            -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    Box ext = Box::empty();
     for (std::uint32_t e : cell)
-    {
-      Eigen::Vector2d a, b;
-      elementEnds(e, a, b);
-      ext.x0 = std::min({ext.x0, a.x(), b.x()});
-      ext.y0 = std::min({ext.y0, a.y(), b.y()});
-      ext.x1 = std::max({ext.x1, a.x(), b.x()});
-      ext.y1 = std::max({ext.y1, a.y(), b.y()});
-    }
+      extend(ext, e);
     sub.x0 = std::max(sub.x0, ext.x0);
     sub.y0 = std::max(sub.y0, ext.y0);
     sub.x1 = std::min(sub.x1, ext.x1);

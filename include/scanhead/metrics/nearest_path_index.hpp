@@ -137,6 +137,7 @@ private:
                       double best) const;
   double elementDistance(std::uint32_t element, const Eigen::Vector2d& p) const;  ///< squared [m²]
   void elementEnds(std::uint32_t element, Eigen::Vector2d& a, Eigen::Vector2d& b) const;
+  void extend(Box& box, std::uint32_t element) const;  ///< \p box grown to hold the element
 
   const PathPoints* path_;
   std::size_t path_points_ = 0;
