@@ -249,6 +249,17 @@ private:
 }
 }  // namespace
 
+template <class Each, class F>
+void NearestPathIndex::listCells(const Each& each, const Grid& g, F&& f) const
+{
+  const double margin = cellMargin(g);
+  each([&](std::uint32_t e) {
+    Eigen::Vector2d a, b;
+    elementEnds(e, a, b);
+    forEachCell(a, b, g.x0, g.y0, g.cell_m, g.inv_cell, g.nx, g.ny, margin, [&](std::size_t c) { f(e, c); });
+  });
+}
+
 NearestPathIndex::NearestPathIndex(const PathPoints& path, unsigned threads)
   : path_(&path)
   , path_points_(path.size())
@@ -275,14 +286,8 @@ void NearestPathIndex::buildTop(std::size_t count, const Box& region, unsigned t
   const auto each = [this](auto&& f) { forEachElement(f); };
   Grid top = layGrid(each, count, region);
   const std::size_t ncells = static_cast<std::size_t>(top.nx) * top.ny;
-  const double margin = cellMargin(top);
-  const auto cellsOf = [&](std::uint32_t e, auto&& f) {
-    Eigen::Vector2d a, b;
-    elementEnds(e, a, b);
-    forEachCell(a, b, top.x0, top.y0, top.cell_m, top.inv_cell, top.nx, top.ny, margin, f);
-  };
   std::vector<std::size_t> start(ncells + 1, 0);
-  each([&](std::uint32_t e) { cellsOf(e, [&](std::size_t c) { ++start[c + 1]; }); });
+  listCells(each, top, [&](std::uint32_t, std::size_t c) { ++start[c + 1]; });
   for (std::size_t c = 0; c < ncells; ++c)
     start[c + 1] += start[c];
   if (start[ncells] > std::numeric_limits<std::uint32_t>::max())
@@ -291,7 +296,7 @@ void NearestPathIndex::buildTop(std::size_t count, const Box& region, unsigned t
   auto* ids = static_cast<std::uint32_t*>(sorted.data());
   {
     std::vector<std::size_t> next(start.begin(), start.end() - 1);
-    each([&](std::uint32_t e) { cellsOf(e, [&](std::size_t c) { ids[next[c]++] = e; }); });
+    listCells(each, top, [&](std::uint32_t e, std::size_t c) { ids[next[c]++] = e; });
   }
 
   // Each cell refined into its own part, in any order, on up to two threads: a part depends on its cell alone. The
@@ -312,8 +317,7 @@ void NearestPathIndex::buildTop(std::size_t count, const Box& region, unsigned t
       {
         part.duplicate_budget = 2 * cell.size();
         buildCell(part, cell, top, c, 0);
-        part.grids.shrink_to_fit();
-        part.offsets.shrink_to_fit();
+        part.offsets.shrink_to_fit();  // (its grids are copied into the index's)
         part.items.shrink_to_fit();
       }
       std::lock_guard<std::mutex> lock(release);
@@ -359,8 +363,7 @@ void NearestPathIndex::buildTop(std::size_t count, const Box& region, unsigned t
   for (std::size_t c = 0; c < ncells; ++c)
   {
     Part& part = parts[c];
-    if (top_.items.size() > std::numeric_limits<std::uint32_t>::max())
-      throwTooLarge();
+    // At most the top lists' total (checked above): a leaf's ids are its list, a refined cell one item.
     top_.offsets[c] = static_cast<std::uint32_t>(top_.items.size());
     largest_leaf_ = std::max(largest_leaf_, part.largest_leaf);
     if (part.items.empty() || !(part.items.front() & kChildFlag))
@@ -400,16 +403,10 @@ bool NearestPathIndex::buildGrid(Part& part, const std::vector<std::uint32_t>& e
   const std::size_t ncells = static_cast<std::size_t>(g.nx) * g.ny;
   if (ncells < 2)
     return false;
-  const double margin = cellMargin(g);
 
   // Counting sort, pass 1: ids per cell.
   std::vector<std::uint32_t> start(ncells + 1, 0);
-  for (std::uint32_t e : elements)
-  {
-    Eigen::Vector2d a, b;
-    elementEnds(e, a, b);
-    forEachCell(a, b, g.x0, g.y0, g.cell_m, g.inv_cell, g.nx, g.ny, margin, [&](std::size_t c) { ++start[c + 1]; });
-  }
+  listCells(each, g, [&](std::uint32_t, std::size_t c) { ++start[c + 1]; });
   std::size_t total = 0, most = 0;
   for (std::size_t c = 0; c < ncells; ++c)
   {
@@ -428,13 +425,7 @@ bool NearestPathIndex::buildGrid(Part& part, const std::vector<std::uint32_t>& e
   std::vector<std::uint32_t> sorted(total);
   {
     std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
-    for (std::uint32_t e : elements)
-    {
-      Eigen::Vector2d a, b;
-      elementEnds(e, a, b);
-      forEachCell(a, b, g.x0, g.y0, g.cell_m, g.inv_cell, g.nx, g.ny, margin,
-                  [&](std::size_t c) { sorted[next[c]++] = e; });
-    }
+    listCells(each, g, [&](std::uint32_t e, std::size_t c) { sorted[next[c]++] = e; });
   }
   g.first_offset = part.offsets.size();
   part.grids.push_back(g);

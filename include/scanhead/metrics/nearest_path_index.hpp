@@ -121,6 +121,9 @@ private:
   /// \brief The grid over \p region sized for \p count elements (each(f) calls f on each).
   template <class Each>
   Grid layGrid(const Each& each, std::size_t count, const Box& region) const;
+  /// \brief Calls f(element, cell) for every cell of \p g that lists the element, for each element each(f) gives.
+  template <class Each, class F>
+  void listCells(const Each& each, const Grid& g, F&& f) const;
   void buildTop(std::size_t count, const Box& region, unsigned threads);
   /// \brief Refines a cell into \p part (false: no refinement splits it or fits the budget; nothing added).
   bool buildGrid(Part& part, const std::vector<std::uint32_t>& elements, const Box& region, int depth) const;
