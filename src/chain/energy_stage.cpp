@@ -269,7 +269,18 @@ RunMetrics EnergyStage::finish()
   m.laser_misplaced_energy_j = settling.early_energy_j + settling.late_energy_j;
   m.laser_off_path_samples = placement_.counts().off_path_samples;
   m.laser_max_off_path_m = placement_.counts().max_distance_m;
-  // The corner peaks are served by the tiles the track's pass reads anyway (one read of a spill file, not two).
+  // The map's figures before its tiles are released below (its memory, and the spill file as the stream left it).
+  const TiledEnergyMap& map = accumulator_.map();
+  const std::size_t map_peak_bytes = map.peakResidentBytes();
+  m.map_tiles = map.tilesTouched();
+  m.map_tiles_spilled = map.tilesSpilled();
+  m.map_spill_file_bytes = map.spillFileBytes();
+  // One pass over the map in tile order reads every tile once (one read of the spill file): the results' overview
+  // and crops, and from the same tiles the track's energy and the corner peaks. It needs no tile cache: a map that
+  // spilled gives its tiles' memory back first (on the THESIS layer, 256 MB the pass's own data and the nearest-path
+  // index on the other core then use). On one thread the views are read here too (before the metrics' last pass).
+  if (map.tilesSpilled() > 0)
+    map.releaseTiles();
   std::vector<Eigen::Vector2d> corner_points;
   std::vector<double> corner_radii;
   for (const CornerReport& c : m.corners)
@@ -279,11 +290,16 @@ RunMetrics EnergyStage::finish()
     corner_points.push_back(c.corner.point);
     corner_radii.push_back(cut + 0.5 * config_.energy.spot_diameter_m);
   }
-  TrackEnergyProfile track;
-  const std::vector<double> corner_peaks = peaksNear(accumulator_.map(), corner_points, corner_radii, [&] {
-    track = trackEnergyProfile(accumulator_.map(), track_, config_.energy.track_exclude_ends_m, &mark_ends_);
-  });
-  track_ = {};  // its last reader (up to track_max_samples · 80 B), before the map's views are read
+  DiscPeakSampler corner_sampler(map, corner_points, corner_radii);
+  TrackEnergySampler track_sampler(map, track_, config_.energy.track_exclude_ends_m, &mark_ends_);
+  track_ = {};  // its last reader took the interior spots (16 B of the 80 B a sample)
+  auto views = std::make_shared<EnergyMapViews>(
+      readEnergyMapViews(map, export_crops_, [&](std::int64_t tile, const float* data) {
+        track_sampler.serve(tile, data);
+        corner_sampler.serve(tile, data);
+      }));
+  const TrackEnergyProfile track = track_sampler.finish(map);
+  const std::vector<double> corner_peaks = corner_sampler.finish(map);
   m.track_measured = track.interior_samples > 0;
   m.track_median_jpm2 = track.median_jpm2;
   m.track_mean_jpm2 = track.mean_jpm2;
@@ -309,21 +325,17 @@ RunMetrics EnergyStage::finish()
   if (!m.corners.empty())
   {
     // The results zoom on the corner with the highest energy peak (the first of equals): crops/worst_corner.*, at
-    // full resolution, four spot diameters around the corner beyond what the path cut from it.
+    // full resolution, four spot diameters around the corner beyond what the path cut from it (a few tiles, read now
+    // that the peaks are known).
     const CornerReport& worst = *std::max_element(
         m.corners.begin(), m.corners.end(),
         [](const CornerReport& a, const CornerReport& b) { return a.energy_peak_jpm2 < b.energy_peak_jpm2; });
     const double cut = std::isfinite(worst.actual.max_contour_error_m) ? worst.actual.max_contour_error_m : 0.0;
     const Eigen::Vector2d half = Eigen::Vector2d::Constant(cut + 4.0 * config_.energy.spot_diameter_m);
     export_crops_.push_back({"worst_corner", worst.corner.point - half, worst.corner.point + half});
+    views->crops.push_back(readCropView(map, export_crops_.back()));
   }
-  // The results' overview and crops read the whole map: here, while the nearest-path pass holds the other core (on the
-  // THESIS layer it outlasts the track's pass by seconds), rather than in the results phase after it.
-  // (The map's memory is taken before: the views' reads fill the spill file's block cache, and on one thread they come
-  // after the metrics, in the results phase.)
-  const std::size_t map_peak_bytes = accumulator_.map().peakResidentBytes();
-  if (config_.stream.threads >= 2)
-    mapViews();
+  views_ = std::move(views);
   m.quality = quality.get();
   if (thermal_)
   {
@@ -334,9 +346,6 @@ RunMetrics EnergyStage::finish()
     m.thermal_energy = thermal_->energy();
     m.thermal_melted_area_m2 = thermal_->meltedArea();
   }
-  m.map_tiles = accumulator_.map().tilesTouched();
-  m.map_tiles_spilled = accumulator_.map().tilesSpilled();
-  m.map_spill_file_bytes = accumulator_.map().spillFileBytes();
   m.peak_memory_bytes = map_peak_bytes + m.quality.memory_bytes + track_peak_bytes_;
   return m;
 }

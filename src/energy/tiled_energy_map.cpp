@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <malloc.h>
 #include <sstream>
 
+#include "region_block_means.hpp"
 #include "scanhead/common/errors.hpp"
 
 namespace scanhead
@@ -130,7 +132,6 @@ TiledEnergyMap& TiledEnergyMap::operator=(TiledEnergyMap&& other) noexcept
     other.summary_valid_ = false;
     hot_tile_ = -1;
     other.hot_tile_ = -1;
-    observer_ = std::move(other.observer_);
   }
   return *this;
 }
@@ -163,56 +164,13 @@ void TiledEnergyMap::bringBack(Slot& slot) const
   ++resident_;
   spill_.read(slot.file_offset, slot.data);
   slot.dirty = false;
-  if (observer_)
-    observer_(slot.tile, slot.data);
 }
 
 void TiledEnergyMap::makeRoom() const
 {
   hot_tile_ = -1;  // a spill or a new buffer may move the hot tile
   if (resident_ >= max_resident_)
-  {
-    // Spill the least recently used eighth at once: the sort is paid every max/8 misses, not on each.
-    std::vector<Slot*> resident;
-    resident.reserve(resident_);
-    for (Slot& s : slots_)
-      if (s.data != nullptr)
-        resident.push_back(&s);
-    const std::size_t count = std::max<std::size_t>(1, resident.size() / 8);
-    std::nth_element(resident.begin(), resident.begin() + static_cast<std::ptrdiff_t>(count - 1), resident.end(),
-                     [](const Slot* a, const Slot* b) { return a->last_use < b->last_use; });
-    // In tile order: the tiles first spilled now get consecutive offsets in that order, so a later pass in tile
-    // order (or along the track) reads the file in long runs.
-    std::sort(resident.begin(), resident.begin() + static_cast<std::ptrdiff_t>(count),
-              [](const Slot* a, const Slot* b) { return a->tile < b->tile; });
-    std::vector<TileSpillFile::Pending> writes;
-    writes.reserve(count);
-    for (std::size_t k = 0; k < count; ++k)
-    {
-      Slot& slot = *resident[k];
-      if (slot.file_offset < 0)
-      {
-        slot.file_offset = spill_.allocate();
-        ++spilled_tiles_;
-        slot_of_file_tile_.push_back(static_cast<std::int32_t>(&slot - slots_.data()));
-        spilled_summaries_.emplace_back();
-      }
-      if (slot.dirty)  // a tile only read since it came back is already in the file, with its summary
-      {
-        writes.push_back({slot.file_offset, slot.data});
-        spilled_summaries_[fileTileOf(slot.file_offset)] = summariseTile(slot.data);
-      }
-    }
-    spill_.write(writes);
-    for (std::size_t k = 0; k < count; ++k)
-    {
-      Slot& slot = *resident[k];
-      slot.dirty = false;
-      free_buffers_.push_back(slot.data);
-      slot.data = nullptr;
-      --resident_;
-    }
-  }
+    spillOldest(std::max<std::size_t>(1, resident_ / 8));  // the sort is paid every max/8 misses, not on each
   if (free_buffers_.empty())
   {
     // Slabs of tiles: one aligned allocation a tile would waste up to an alignment (4 KiB) each.
@@ -223,6 +181,64 @@ void TiledEnergyMap::makeRoom() const
     allocated_tiles_ += tiles;
   }
   peak_resident_ = std::max(peak_resident_, resident_ + 1);
+}
+
+void TiledEnergyMap::spillOldest(std::size_t count) const
+{
+  hot_tile_ = -1;
+  std::vector<Slot*> resident;
+  resident.reserve(resident_);
+  for (Slot& s : slots_)
+    if (s.data != nullptr)
+      resident.push_back(&s);
+  count = std::min(count, resident.size());
+  if (count == 0)
+    return;
+  std::nth_element(resident.begin(), resident.begin() + static_cast<std::ptrdiff_t>(count - 1), resident.end(),
+                   [](const Slot* a, const Slot* b) { return a->last_use < b->last_use; });
+  // In tile order: the tiles first spilled now get consecutive offsets in that order, so a later pass in tile
+  // order (or along the track) reads the file in long runs.
+  std::sort(resident.begin(), resident.begin() + static_cast<std::ptrdiff_t>(count),
+            [](const Slot* a, const Slot* b) { return a->tile < b->tile; });
+  std::vector<TileSpillFile::Pending> writes;
+  writes.reserve(count);
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    Slot& slot = *resident[k];
+    if (slot.file_offset < 0)
+    {
+      slot.file_offset = spill_.allocate();
+      ++spilled_tiles_;
+      slot_of_file_tile_.push_back(static_cast<std::int32_t>(&slot - slots_.data()));
+      spilled_summaries_.emplace_back();
+    }
+    if (slot.dirty)  // a tile only read since it came back is already in the file, with its summary
+    {
+      writes.push_back({slot.file_offset, slot.data});
+      spilled_summaries_[fileTileOf(slot.file_offset)] = summariseTile(slot.data);
+    }
+  }
+  spill_.write(writes);
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    Slot& slot = *resident[k];
+    slot.dirty = false;
+    free_buffers_.push_back(slot.data);
+    slot.data = nullptr;
+    --resident_;
+  }
+}
+
+void TiledEnergyMap::releaseTiles() const
+{
+  while (resident_ > 0)
+    spillOldest(std::max<std::size_t>(1, max_resident_ / 8));  // one eviction batch: the staging buffer's size
+  spill_.finishWrites();
+  std::vector<float*>().swap(free_buffers_);
+  std::vector<AlignedFloats>().swap(buffers_);
+  allocated_tiles_ = 0;
+  // Slabs the allocator took from its heaps (not mapped on their own) go back to the system only when trimmed.
+  malloc_trim(0);
 }
 
 float* TiledEnergyMap::tileForWrite(std::int64_t tile) const
@@ -373,97 +389,52 @@ void TiledEnergyMap::clear()
 
 EnergyMap TiledEnergyMap::region(std::int64_t col0, std::int64_t row0, std::int64_t w, std::int64_t h, int factor) const
 {
-  const std::int64_t c0 = std::clamp<std::int64_t>(col0, 0, std::max<std::int64_t>(0, width_ - 1));
-  const std::int64_t r0 = std::clamp<std::int64_t>(row0, 0, std::max<std::int64_t>(0, height_ - 1));
-  const std::int64_t c1 = std::clamp<std::int64_t>(col0 + w, c0 + 1, std::max<std::int64_t>(c0 + 1, width_));
-  const std::int64_t r1 = std::clamp<std::int64_t>(row0 + h, r0 + 1, std::max<std::int64_t>(r0 + 1, height_));
-  const std::int64_t f = std::max(1, factor);
-  const std::int64_t out_w = (c1 - c0 + f - 1) / f, out_h = (r1 - r0 + f - 1) / f;
-  const double big = pixel_ * static_cast<double>(f);
-  const Eigen::Vector2d lo = origin_ + pixel_ * Eigen::Vector2d(static_cast<double>(c0), static_cast<double>(r0));
-  EnergyMap out(lo, lo + big * Eigen::Vector2d(static_cast<double>(out_w), static_cast<double>(out_h)), big);
-  // Sums in double per output pixel, tile by tile in tile order (deterministic), then the block mean. Only the output
-  // rows a band of tiles reaches are summed at once (a ring of them): the overview of a whole layer needs 100 MB of
-  // doubles otherwise. An output row is complete once the band below its last map row is done.
-  const std::size_t out_cols = static_cast<std::size_t>(out.width());
-  const std::int64_t ring_rows = (kTileSide + f - 1) / f + 1;
-  std::vector<double> sum(static_cast<std::size_t>(ring_rows) * out_cols, 0.0);
-  auto ringRow = [&](std::int64_t out_row) {
-    return sum.data() + static_cast<std::size_t>(out_row % ring_rows) * out_cols;
-  };
-  const double inv = 1.0 / static_cast<double>(f * f);
-  std::int64_t next_out_row = 0;  // the first output row not yet written
-  auto writeRowsBefore = [&](std::int64_t end_row) {
-    for (; next_out_row < end_row; ++next_out_row)
-    {
-      double* ring = ringRow(next_out_row);
-      float* row = out.row(static_cast<int>(next_out_row));
-      for (std::size_t c = 0; c < out_cols; ++c)
-      {
-        row[c] = static_cast<float>(ring[c] * inv);
-        ring[c] = 0.0;
-      }
-    }
-  };
-  std::vector<float> scratch(static_cast<std::size_t>(kTilePixels));
-  for (std::int64_t tj = r0 / kTileSide; tj <= (r1 - 1) / kTileSide && tj < tiles_y_; ++tj)
+  return std::move(regions({{col0, row0, w, h, factor}}).front());
+}
+
+std::vector<EnergyMap> TiledEnergyMap::regions(const std::vector<RegionRequest>& requests,
+                                               const TileVisitor& visit) const
+{
+  std::vector<RegionBlockMeans> sums;
+  sums.reserve(requests.size());
+  std::int64_t first_row = tiles_y_, last_row = -1, first_column = tiles_x_, last_column = -1;
+  for (const RegionRequest& request : requests)
   {
-    for (std::int64_t ti = c0 / kTileSide; ti <= (c1 - 1) / kTileSide && ti < tiles_x_; ++ti)
+    sums.emplace_back(*this, request);
+    first_row = std::min(first_row, sums.back().firstTileRow());
+    last_row = std::max(last_row, sums.back().lastTileRow());
+    first_column = std::min(first_column, sums.back().firstTileColumn());
+    last_column = std::max(last_column, sums.back().lastTileColumn());
+  }
+  // Spilled tiles are read into a scratch tile, not into the cache: the pass touches each tile once.
+  std::vector<float> scratch(static_cast<std::size_t>(kTilePixels));
+  for (std::int64_t tj = first_row; tj <= last_row; ++tj)
+  {
+    for (std::int64_t ti = first_column; ti <= last_column; ++ti)
     {
+      auto covers = [tj, ti](const RegionBlockMeans& region) {
+        return tj >= region.firstTileRow() && tj <= region.lastTileRow() && ti >= region.firstTileColumn() &&
+               ti <= region.lastTileColumn();
+      };
+      if (std::none_of(sums.begin(), sums.end(), covers))
+        continue;  // between regions: not read
       const float* data = tileForRead(tj * tiles_x_ + ti, scratch.data());
       if (data == nullptr)
         continue;
-      const std::int64_t rr0 = std::max(r0, tj * kTileSide), rr1 = std::min(r1, (tj + 1) * kTileSide);
-      const std::int64_t cc0 = std::max(c0, ti * kTileSide), cc1 = std::min(c1, (ti + 1) * kTileSide);
-      for (std::int64_t r = rr0; r < rr1; ++r)
-      {
-        const float* in = data + (r - tj * kTileSide) * kTileSide - ti * kTileSide;
-        double* out_row = ringRow((r - r0) / f);
-        // Each output pixel adds its map pixels in column order (the same additions as one += per
-        // pixel, so the same bits), without a division per pixel. The whole blocks inside [cc0, cc1)
-        // are summed four at a time: four independent chains of adds overlap instead of waiting on one
-        // another (full resolution and small factors: ~3× faster; the overview of a layer reads ~1e9
-        // pixels).
-        const std::int64_t whole0 = c0 + ((cc0 - c0 + f - 1) / f) * f;  // first block starting at or after cc0
-        const std::int64_t whole1 = c0 + ((cc1 - c0) / f) * f;          // end of the last block ending by cc1
-        auto addPart = [&](std::int64_t from, std::int64_t to) {
-          if (from >= to)
-            return;
-          double& s = out_row[(from - c0) / f];
-          for (std::int64_t c = from; c < to; ++c)
-            s += in[c];
-        };
-        // The head (part of a block, or all of [cc0, cc1) when it lies within one block), the whole blocks, the tail.
-        const std::int64_t head_end = std::min(cc1, whole0);
-        addPart(cc0, head_end);
-        const std::int64_t blocks = whole1 > whole0 ? (whole1 - whole0) / f : 0;
-        std::int64_t b = 0;
-        for (; b + 4 <= blocks; b += 4)
-        {
-          double* const block_sum = out_row + (whole0 - c0) / f + b;
-          double s0 = block_sum[0], s1 = block_sum[1], s2 = block_sum[2], s3 = block_sum[3];
-          const float* const p = in + whole0 + b * f;
-          for (std::int64_t k = 0; k < f; ++k)
-          {
-            s0 += p[k];
-            s1 += p[f + k];
-            s2 += p[2 * f + k];
-            s3 += p[3 * f + k];
-          }
-          block_sum[0] = s0;
-          block_sum[1] = s1;
-          block_sum[2] = s2;
-          block_sum[3] = s3;
-        }
-        for (; b < blocks; ++b)
-          addPart(whole0 + b * f, whole0 + (b + 1) * f);
-        addPart(std::max(head_end, whole1), cc1);
-      }
+      if (visit)
+        visit(tj * tiles_x_ + ti, data);
+      for (RegionBlockMeans& region : sums)
+        if (covers(region))
+          region.addTile(tj, ti, data);
     }
-    // Output rows whose map rows all lie below the next band: complete.
-    writeRowsBefore(std::min<std::int64_t>(out_h, ((tj + 1) * kTileSide - r0) / f));
+    for (RegionBlockMeans& region : sums)
+      if (tj >= region.firstTileRow() && tj <= region.lastTileRow())
+        region.endTileRow(tj);
   }
-  writeRowsBefore(out_h);
+  std::vector<EnergyMap> out;
+  out.reserve(sums.size());
+  for (RegionBlockMeans& region : sums)
+    out.push_back(region.finish());
   return out;
 }
 

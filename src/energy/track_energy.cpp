@@ -3,7 +3,9 @@
 #include "scanhead/energy/track_energy.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "scanhead/common/config_check.hpp"
@@ -25,28 +27,48 @@ inline void axisWeights(double u, std::int64_t n, std::int64_t& i0, std::int64_t
   a = u - f;
 }
 
-/// \brief Bilinear E between pixel centres; 0 off the map (see the header for the edge band).
-template <class Map>
-double bilinear(const Map& map, const Eigen::Vector2d& p)
+/// \brief The four pixels and weights of the bilinear E at one point (see the header for the edge band).
+struct Bilinear
 {
+  std::int64_t i0 = 0, i1 = 0, j0 = 0, j1 = 0;
+  double a = 0.0, b = 0.0;
+  bool on_map = false;  ///< false: the point reads 0
+
+  /// \brief E from the pixels (i0, j0), (i1, j0), (i0, j1), (i1, j1).
+  double value(float e00, float e10, float e01, float e11) const
+  {
+    if (!on_map)
+      return 0.0;
+    return (1.0 - a) * (1.0 - b) * e00 + a * (1.0 - b) * e10 + (1.0 - a) * b * e01 + a * b * e11;
+  }
+};
+
+template <class Map>
+Bilinear bilinearAt(const Map& map, const Eigen::Vector2d& p)
+{
+  Bilinear w;
   const double pixel = map.pixel();
   const double x = (p.x() - map.origin().x()) / pixel;  // [pixels] from the map's corner
   const double y = (p.y() - map.origin().y()) / pixel;
-  if (!(x >= 0.0 && x <= static_cast<double>(map.width()) && y >= 0.0 && y <= static_cast<double>(map.height())))
+  w.on_map = x >= 0.0 && x <= static_cast<double>(map.width()) && y >= 0.0 && y <= static_cast<double>(map.height());
+  if (w.on_map)
   {
-    return 0.0;
+    axisWeights(x - 0.5, map.width(), w.i0, w.i1, w.a);
+    axisWeights(y - 0.5, map.height(), w.j0, w.j1, w.b);
   }
-  std::int64_t i0, i1, j0, j1;
-  double a, b;
-  axisWeights(x - 0.5, map.width(), i0, i1, a);
-  axisWeights(y - 0.5, map.height(), j0, j1, b);
-  return (1.0 - a) * (1.0 - b) * map.at(i0, j0) + a * (1.0 - b) * map.at(i1, j0) + (1.0 - a) * b * map.at(i0, j1) +
-         a * b * map.at(i1, j1);
+  return w;
 }
-}  // namespace
 
-namespace
+/// \brief Bilinear E between pixel centres; 0 off the map.
+template <class Map>
+double bilinear(const Map& map, const Eigen::Vector2d& p)
 {
+  const Bilinear w = bilinearAt(map, p);
+  if (!w.on_map)
+    return 0.0;
+  return w.value(map.at(w.i0, w.j0), map.at(w.i1, w.j0), map.at(w.i0, w.j1), map.at(w.i1, w.j1));
+}
+
 /// \brief Whether \p p lies within \p radius of a point of \p ends_by_x (sorted by x).
 bool nearAnEnd(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& ends_by_x, double radius)
 {
@@ -59,13 +81,17 @@ bool nearAnEnd(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& end
   }
   return false;
 }
-}  // namespace
 
-namespace
+/// \brief What a profile needs of the track besides the map: each laser-on sample's arc, spot and interior flag.
+struct TrackGeometry
 {
-template <class Map>
-TrackEnergyProfile profileOn(const Map& map, const std::vector<SpotSample>& spots, double exclude_ends_m,
-                             const std::vector<Eigen::Vector2d>* track_ends)
+  std::vector<double> arc_m;
+  std::vector<Eigen::Vector2d> where;  ///< the actual spot
+  std::vector<char> interior;
+};
+
+TrackGeometry trackGeometry(const std::vector<SpotSample>& spots, double exclude_ends_m,
+                            const std::vector<Eigen::Vector2d>* track_ends)
 {
   std::vector<Eigen::Vector2d> ends_by_x;
   if (track_ends)
@@ -75,19 +101,17 @@ TrackEnergyProfile profileOn(const Map& map, const std::vector<SpotSample>& spot
               [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
   }
   requireSetting(exclude_ends_m >= 0.0, "track_energy.exclude_ends_m", ">= 0", exclude_ends_m);
-  TrackEnergyProfile out;
+  TrackGeometry g;
   std::size_t on = 0;
   for (const SpotSample& s : spots)
   {
     on += s.power_w > 0.0 ? 1 : 0;
   }
-  out.arc_m.reserve(on);
-  out.energy_jpm2.reserve(on);
-  out.interior.assign(on, 0);
-  std::vector<const Eigen::Vector2d*> where;  // actual spot of each laser-on sample
-  where.reserve(on);
+  g.arc_m.reserve(on);
+  g.where.reserve(on);
+  g.interior.assign(on, 0);
 
-  // Pass 1: energy and arc of every laser-on sample.
+  // Pass 1: arc and spot of every laser-on sample.
   double arc = 0.0;
   bool previous_on = false;
   for (std::size_t k = 0; k < spots.size(); ++k)
@@ -110,15 +134,11 @@ TrackEnergyProfile profileOn(const Map& map, const std::vector<SpotSample>& spot
       arc += (s.actual - spots[k - 1].actual).norm();
     }
     previous_on = true;
-    out.arc_m.push_back(arc);
-    out.energy_jpm2.push_back(bilinear(map, s.actual));
-    where.push_back(&s.actual);
+    g.arc_m.push_back(arc);
+    g.where.push_back(s.actual);
   }
 
   // Pass 2: bursts (runs of laser-on samples consecutive in the stream), interior flags.
-  std::vector<double> interior_values;
-  interior_values.reserve(on);
-  double sum = 0.0;
   std::size_t m = 0;  // index among laser-on samples
   for (std::size_t k = 0; k < spots.size();)
   {
@@ -133,62 +153,155 @@ TrackEnergyProfile profileOn(const Map& map, const std::vector<SpotSample>& spot
       ++end;
     }
     const std::size_t first = m, last = m + (end - k) - 1;
-    const double arc_first = out.arc_m[first], arc_last = out.arc_m[last];
+    const double arc_first = g.arc_m[first], arc_last = g.arc_m[last];
     for (std::size_t q = first; q <= last; ++q)
     {
-      const double s = out.arc_m[q];
-      const bool interior = track_ends ? !nearAnEnd(*where[q], ends_by_x, exclude_ends_m)
-                                       : (s - arc_first > exclude_ends_m && arc_last - s > exclude_ends_m);
-      if (interior)
-      {
-        out.interior[q] = 1;
-        const double e = out.energy_jpm2[q];
-        interior_values.push_back(e);
-        sum += e;
-        if (out.interior_samples == 0 || e < out.min_jpm2)
-        {
-          out.min_jpm2 = e;
-        }
-        if (out.interior_samples == 0 || e > out.peak_jpm2)
-        {
-          out.peak_jpm2 = e;
-          out.peak_point_m = *where[q];
-        }
-        ++out.interior_samples;
-      }
+      const double s = g.arc_m[q];
+      g.interior[q] = track_ends ? !nearAnEnd(g.where[q], ends_by_x, exclude_ends_m)
+                                 : (s - arc_first > exclude_ends_m && arc_last - s > exclude_ends_m);
     }
     m = last + 1;
     k = end;
   }
+  return g;
+}
 
-  const std::size_t n = interior_values.size();
+/// \brief Mean, median, min and peak of the interior samples' E (\p values, at \p where, in stream order).
+void addStatistics(TrackEnergyProfile& out, std::vector<double> values, const std::vector<Eigen::Vector2d>& where)
+{
+  double sum = 0.0;
+  for (std::size_t q = 0; q < values.size(); ++q)
+  {
+    const double e = values[q];
+    sum += e;
+    if (q == 0 || e < out.min_jpm2)
+      out.min_jpm2 = e;
+    if (q == 0 || e > out.peak_jpm2)
+    {
+      out.peak_jpm2 = e;
+      out.peak_point_m = where[q];
+    }
+  }
+  const std::size_t n = values.size();
+  out.interior_samples = n;
   if (n > 0)
   {
     out.mean_jpm2 = sum / static_cast<double>(n);
-    const auto mid = interior_values.begin() + static_cast<std::ptrdiff_t>(n / 2);
-    std::nth_element(interior_values.begin(), mid, interior_values.end());
+    const auto mid = values.begin() + static_cast<std::ptrdiff_t>(n / 2);
+    std::nth_element(values.begin(), mid, values.end());
     double median = *mid;
     if (n % 2 == 0)
     {
       // The lower middle value is the largest of the part before mid.
-      median = 0.5 * (median + *std::max_element(interior_values.begin(), mid));
+      median = 0.5 * (median + *std::max_element(values.begin(), mid));
     }
     out.median_jpm2 = median;
   }
-  return out;
 }
 }  // namespace
 
 TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<SpotSample>& spots, double exclude_ends_m,
                                       const std::vector<Eigen::Vector2d>* track_ends)
 {
-  return profileOn(map, spots, exclude_ends_m, track_ends);
+  TrackGeometry g = trackGeometry(spots, exclude_ends_m, track_ends);
+  TrackEnergyProfile out;
+  out.energy_jpm2.reserve(g.where.size());
+  std::vector<double> values;
+  std::vector<Eigen::Vector2d> where;
+  for (std::size_t q = 0; q < g.where.size(); ++q)
+  {
+    out.energy_jpm2.push_back(bilinear(map, g.where[q]));
+    if (g.interior[q])
+    {
+      values.push_back(out.energy_jpm2.back());
+      where.push_back(g.where[q]);
+    }
+  }
+  addStatistics(out, std::move(values), where);
+  out.arc_m = std::move(g.arc_m);
+  out.interior = std::move(g.interior);
+  return out;
 }
 
-TrackEnergyProfile trackEnergyProfile(const TiledEnergyMap& map, const std::vector<SpotSample>& spots,
-                                      double exclude_ends_m, const std::vector<Eigen::Vector2d>* track_ends)
+TrackEnergySampler::TrackEnergySampler(const TiledEnergyMap& map, const std::vector<SpotSample>& spots,
+                                       double exclude_ends_m, const std::vector<Eigen::Vector2d>* track_ends)
+  : origin_(map.origin())
+  , pixel_(map.pixel())
+  , width_(map.width())
+  , height_(map.height())
+  , tiles_across_(map.tilesAcross())
 {
-  return profileOn(map, spots, exclude_ends_m, track_ends);
+  {
+    const TrackGeometry g = trackGeometry(spots, exclude_ends_m, track_ends);
+    for (std::size_t q = 0; q < g.where.size(); ++q)
+      if (g.interior[q])
+        where_.push_back(g.where[q]);
+  }
+  where_.shrink_to_fit();
+  if (where_.size() > std::numeric_limits<std::uint32_t>::max())
+    throw NumericalError("track energy: over 2^32 interior samples (lower energy.track_max_samples)");
+  pixels_.assign(where_.size(), {0.0f, 0.0f, 0.0f, 0.0f});
+  // One request per (tile, sample) the sample's four pixels lie on, sorted by tile: key = tile · 2^32 + sample.
+  for (std::size_t q = 0; q < where_.size(); ++q)
+  {
+    const Bilinear w = bilinearAt(*this, where_[q]);
+    if (!w.on_map)
+      continue;
+    const std::int64_t tiles[4] = {tileOf(w.i0, w.j0), tileOf(w.i1, w.j0), tileOf(w.i0, w.j1), tileOf(w.i1, w.j1)};
+    for (int c = 0; c < 4; ++c)
+      if (std::find(tiles, tiles + c, tiles[c]) == tiles + c)
+        requests_.push_back(static_cast<std::uint64_t>(tiles[c]) << 32 | q);
+  }
+  std::sort(requests_.begin(), requests_.end());
+  served_.assign(requests_.size(), 0);
+}
+
+std::int64_t TrackEnergySampler::tileOf(std::int64_t col, std::int64_t row) const
+{
+  return (row / TiledEnergyMap::kTileSide) * tiles_across_ + col / TiledEnergyMap::kTileSide;
+}
+
+void TrackEnergySampler::serve(std::int64_t tile, const float* data)
+{
+  constexpr std::int64_t side = TiledEnergyMap::kTileSide;
+  const auto key = static_cast<std::uint64_t>(tile) << 32;
+  for (auto it = std::lower_bound(requests_.begin(), requests_.end(), key);
+       it != requests_.end() && (*it >> 32) == static_cast<std::uint64_t>(tile); ++it)
+  {
+    served_[static_cast<std::size_t>(it - requests_.begin())] = 1;
+    const std::size_t q = static_cast<std::uint32_t>(*it);
+    const Bilinear w = bilinearAt(*this, where_[q]);
+    const std::int64_t cols[4] = {w.i0, w.i1, w.i0, w.i1}, rows[4] = {w.j0, w.j0, w.j1, w.j1};
+    for (int c = 0; c < 4; ++c)
+      if (tileOf(cols[c], rows[c]) == tile)
+        pixels_[q][static_cast<std::size_t>(c)] = data[(rows[c] % side) * side + cols[c] % side];
+  }
+}
+
+TrackEnergyProfile TrackEnergySampler::finish(const TiledEnergyMap& map)
+{
+  // The tiles no pass served (resident or spilled), in tile order; untouched tiles read 0, as at().
+  std::vector<float> scratch(static_cast<std::size_t>(TiledEnergyMap::kTileBytes / sizeof(float)));
+  for (std::size_t k = 0; k < requests_.size(); ++k)
+  {
+    const std::int64_t tile = static_cast<std::int64_t>(requests_[k] >> 32);
+    if (served_[k] || (k > 0 && (requests_[k - 1] >> 32) == (requests_[k] >> 32)))
+      continue;
+    if (const float* data = map.tileData(tile, scratch.data()))
+      serve(tile, data);
+  }
+  std::vector<double> values(where_.size());
+  for (std::size_t q = 0; q < where_.size(); ++q)
+  {
+    const std::array<float, 4>& e = pixels_[q];
+    values[q] = bilinearAt(*this, where_[q]).value(e[0], e[1], e[2], e[3]);
+  }
+  requests_ = {};
+  served_ = {};
+  pixels_ = {};
+  TrackEnergyProfile out;
+  addStatistics(out, std::move(values), where_);
+  return out;
 }
 
 double peakNear(const TiledEnergyMap& map, const Eigen::Vector2d& point, double radius_m)
@@ -209,22 +322,18 @@ double peakNear(const TiledEnergyMap& map, const Eigen::Vector2d& point, double 
   return peak;
 }
 
-std::vector<double> peaksNear(const TiledEnergyMap& map, const std::vector<Eigen::Vector2d>& points,
-                              const std::vector<double>& radii_m, const std::function<void()>& during)
+DiscPeakSampler::DiscPeakSampler(const TiledEnergyMap& map, const std::vector<Eigen::Vector2d>& points,
+                                 const std::vector<double>& radii_m)
+  : tiles_across_(map.tilesAcross())
+  , discs_(points.size())
+  , peaks_(points.size(), 0.0)
 {
   // Each disc as in peakNear: the pixel holding the point, and the pixels whose centre lies within r.
-  struct Disc
-  {
-    double u = 0.0, v = 0.0, r = 0.0;
-    std::int64_t col0 = 0, col1 = 0, row0 = 0, row1 = 0, point_col = 0, point_row = 0;
-  };
   const double p = map.pixel();
   const std::int64_t side = TiledEnergyMap::kTileSide;
-  std::vector<Disc> discs(points.size());
-  std::vector<std::pair<std::int64_t, std::uint32_t>> owed;  // (tile, disc), sorted by tile
   for (std::size_t i = 0; i < points.size(); ++i)
   {
-    Disc& d = discs[i];
+    Disc& d = discs_[i];
     d.u = (points[i].x() - map.origin().x()) / p;
     d.v = (points[i].y() - map.origin().y()) / p;
     d.r = radii_m[i] / p;
@@ -239,54 +348,47 @@ std::vector<double> peaksNear(const TiledEnergyMap& map, const std::vector<Eigen
     const std::int64_t r0 = std::max<std::int64_t>(0, d.row0), r1 = std::min(map.height() - 1, d.row1);
     for (std::int64_t tr = r0 / side; r0 <= r1 && tr <= r1 / side; ++tr)
       for (std::int64_t tc = c0 / side; c0 <= c1 && tc <= c1 / side; ++tc)
-        owed.emplace_back(tr * map.tilesAcross() + tc, static_cast<std::uint32_t>(i));
+        owed_.emplace_back(tr * tiles_across_ + tc, static_cast<std::uint32_t>(i));
   }
-  std::sort(owed.begin(), owed.end());
-  std::vector<double> peaks(points.size(), 0.0);
-  std::vector<char> served(owed.size(), 0);
-  auto serve = [&](std::int64_t tile, const float* data) {
-    auto it = std::lower_bound(owed.begin(), owed.end(), std::make_pair(tile, std::uint32_t{0}));
-    const std::int64_t tr = tile / map.tilesAcross(), tc = tile % map.tilesAcross();
-    for (; it != owed.end() && it->first == tile; ++it)
-    {
-      char& done = served[static_cast<std::size_t>(it - owed.begin())];
-      if (done)
-        return;  // a tile brought back again: its discs were served the first time
-      done = 1;
-      const Disc& d = discs[it->second];
-      double& peak = peaks[it->second];
-      const std::int64_t r0 = std::max(d.row0, tr * side), r1 = std::min(d.row1, tr * side + side - 1);
-      const std::int64_t c0 = std::max(d.col0, tc * side), c1 = std::min(d.col1, tc * side + side - 1);
-      for (std::int64_t row = r0; row <= r1; ++row)
-        for (std::int64_t col = c0; col <= c1; ++col)
-        {
-          const double dx = static_cast<double>(col) + 0.5 - d.u, dy = static_cast<double>(row) + 0.5 - d.v;
-          if (dx * dx + dy * dy <= d.r * d.r || (col == d.point_col && row == d.point_row))
-            peak = std::max(peak, static_cast<double>(data[(row - tr * side) * side + (col - tc * side)]));
-        }
-    }
-  };
-  map.observeBroughtBack(serve);
-  try
+  std::sort(owed_.begin(), owed_.end());
+  served_.assign(owed_.size(), 0);
+}
+
+void DiscPeakSampler::serve(std::int64_t tile, const float* data)
+{
+  const std::int64_t side = TiledEnergyMap::kTileSide;
+  const std::int64_t tr = tile / tiles_across_, tc = tile % tiles_across_;
+  for (auto it = std::lower_bound(owed_.begin(), owed_.end(), std::make_pair(tile, std::uint32_t{0}));
+       it != owed_.end() && it->first == tile; ++it)
   {
-    during();
+    served_[static_cast<std::size_t>(it - owed_.begin())] = 1;
+    const Disc& d = discs_[it->second];
+    double& peak = peaks_[it->second];
+    const std::int64_t r0 = std::max(d.row0, tr * side), r1 = std::min(d.row1, tr * side + side - 1);
+    const std::int64_t c0 = std::max(d.col0, tc * side), c1 = std::min(d.col1, tc * side + side - 1);
+    for (std::int64_t row = r0; row <= r1; ++row)
+      for (std::int64_t col = c0; col <= c1; ++col)
+      {
+        const double dx = static_cast<double>(col) + 0.5 - d.u, dy = static_cast<double>(row) + 0.5 - d.v;
+        if (dx * dx + dy * dy <= d.r * d.r || (col == d.point_col && row == d.point_row))
+          peak = std::max(peak, static_cast<double>(data[(row - tr * side) * side + (col - tc * side)]));
+      }
   }
-  catch (...)
+}
+
+std::vector<double> DiscPeakSampler::finish(const TiledEnergyMap& map)
+{
+  // The tiles no pass served (resident or spilled), in tile order; untouched tiles read 0.
+  std::vector<float> scratch(static_cast<std::size_t>(TiledEnergyMap::kTileBytes / sizeof(float)));
+  for (std::size_t k = 0; k < owed_.size(); ++k)
   {
-    map.observeBroughtBack(nullptr);
-    throw;
-  }
-  map.observeBroughtBack(nullptr);
-  // The tiles still owed (resident all along, or not on the pass's way), in tile order.
-  std::vector<float> scratch(static_cast<std::size_t>(side * side));
-  for (std::size_t k = 0; k < owed.size(); ++k)
-  {
-    if (served[k] || (k > 0 && owed[k].first == owed[k - 1].first))
+    if (served_[k] || (k > 0 && owed_[k].first == owed_[k - 1].first))
       continue;
-    const float* data = map.tileData(owed[k].first, scratch.data());
-    if (data != nullptr)
-      serve(owed[k].first, data);
+    if (const float* data = map.tileData(owed_[k].first, scratch.data()))
+      serve(owed_[k].first, data);
   }
-  return peaks;
+  owed_ = {};
+  served_ = {};
+  return std::move(peaks_);
 }
 }  // namespace scanhead

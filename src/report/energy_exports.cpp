@@ -95,38 +95,53 @@ std::vector<MapRegion> exportCrops(const Job& job, const EnergyConfig& config)
 
 namespace
 {
-EnergyMapViews::View overviewView(const TiledEnergyMap& map)
+std::string overviewDescription(const TiledEnergyMap& map, int factor)
 {
-  const int factor = map.overviewFactor(kOverviewSide);
-  return {"energy_map", std::make_shared<const EnergyMap>(map.overview(factor)),
-          factor == 1 ? "the whole map at full resolution"
-                      : "overview: means of " + std::to_string(factor) + " x " + std::to_string(factor) +
-                            " pixels of the " + fullPrecisionText(map.pixel()) + " m map (full-resolution peak " +
-                            fullPrecisionText(map.peak()) + " J/m^2)"};
+  return factor == 1 ? "the whole map at full resolution"
+                     : "overview: means of " + std::to_string(factor) + " x " + std::to_string(factor) +
+                           " pixels of the " + fullPrecisionText(map.pixel()) + " m map (full-resolution peak " +
+                           fullPrecisionText(map.peak()) + " J/m^2)";
 }
 
-EnergyMapViews::View cropView(const TiledEnergyMap& map, const MapRegion& crop)
+TiledEnergyMap::RegionRequest cropRequest(const TiledEnergyMap& map, const MapRegion& crop)
 {
   const double p = map.pixel();
   const auto col0 = static_cast<std::int64_t>(std::floor((crop.min_corner.x() - map.origin().x()) / p));
   const auto row0 = static_cast<std::int64_t>(std::floor((crop.min_corner.y() - map.origin().y()) / p));
   const auto col1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.x() - map.origin().x()) / p));
   const auto row1 = static_cast<std::int64_t>(std::ceil((crop.max_corner.y() - map.origin().y()) / p));
-  const int factor = TiledEnergyMap::blockFactor(col1 - col0, row1 - row0, kCropSide);
-  return {crop.name, std::make_shared<const EnergyMap>(map.region(col0, row0, col1 - col0, row1 - row0, factor)),
+  return {col0, row0, col1 - col0, row1 - row0, TiledEnergyMap::blockFactor(col1 - col0, row1 - row0, kCropSide)};
+}
+
+EnergyMapViews::View cropView(const MapRegion& crop, int factor, EnergyMap grid)
+{
+  return {crop.name, std::make_shared<const EnergyMap>(std::move(grid)),
           factor == 1 ? crop.name + " at full resolution"
                       : crop.name + ": means of " + std::to_string(factor) + " x " + std::to_string(factor) +
                             " pixels (over " + std::to_string(kCropSide) + " pixels a side at full resolution)"};
 }
 }  // namespace
 
-EnergyMapViews readEnergyMapViews(const TiledEnergyMap& map, const std::vector<MapRegion>& crops)
+EnergyMapViews readEnergyMapViews(const TiledEnergyMap& map, const std::vector<MapRegion>& crops,
+                                  const TiledEnergyMap::TileVisitor& visit)
 {
-  EnergyMapViews views;
-  views.overview = overviewView(map);
+  const int factor = map.overviewFactor(kOverviewSide);
+  std::vector<TiledEnergyMap::RegionRequest> requests{{0, 0, map.width(), map.height(), factor}};
   for (const MapRegion& crop : crops)
-    views.crops.push_back(cropView(map, crop));
+    requests.push_back(cropRequest(map, crop));
+  std::vector<EnergyMap> grids = map.regions(requests, visit);
+  EnergyMapViews views;
+  views.overview = {"energy_map", std::make_shared<const EnergyMap>(std::move(grids[0])),
+                    overviewDescription(map, factor)};
+  for (std::size_t k = 0; k < crops.size(); ++k)
+    views.crops.push_back(cropView(crops[k], requests[k + 1].factor, std::move(grids[k + 1])));
   return views;
+}
+
+EnergyMapViews::View readCropView(const TiledEnergyMap& map, const MapRegion& crop)
+{
+  const TiledEnergyMap::RegionRequest request = cropRequest(map, crop);
+  return cropView(crop, request.factor, std::move(map.regions({request}).front()));
 }
 
 void addEnergyViewTasks(TaskPool& pool, const std::string& dir_text, const EnergyMapViews& views)

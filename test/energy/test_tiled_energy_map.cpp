@@ -94,10 +94,10 @@ TEST(TiledEnergyMap, SpillsLeaveTheValuesBitIdentical)
   EXPECT_NEAR(small.map().totalEnergy(), commanded, 1e-6 * commanded);
 }
 
-// peaksNear (the corner peaks served by the tiles another pass brings back) gives peakNear's values bit for bit:
-// discs along and off the serpentine, some off the map, one on no touched tile, on a spilled map while a pass of point
-// reads brings tiles back, and with no pass at all.
-TEST(TiledEnergyMap, PeaksNearEqualPeakNear)
+// DiscPeakSampler (the corner peaks served by the tiles another pass reads) gives peakNear's values bit for bit: discs
+// along and off the serpentine, some off the map, one on no touched tile, on a spilled map, served by a pass over the
+// left half of the map (the rest read by finish()), and with no pass at all.
+TEST(TiledEnergyMap, DiscPeakSamplerEqualsPeakNear)
 {
   const std::unique_ptr<EnergyAccumulator> acc = spilledSerpentine(4);
   const TiledEnergyMap& map = acc->map();
@@ -116,16 +116,15 @@ TEST(TiledEnergyMap, PeaksNearEqualPeakNear)
   std::vector<double> expected;
   for (std::size_t k = 0; k < points.size(); ++k)
     expected.push_back(scanhead::peakNear(map, points[k], radii[k]));
-  std::size_t brought_back = 0;
-  const std::vector<double> during_pass = scanhead::peaksNear(map, points, radii, [&] {
-    const std::uint64_t before = map.spillFile().blockReads();
-    for (std::int64_t c = 0; c < map.width(); c += 17)
-      for (std::int64_t row = 0; row < map.height(); row += 23)
-        (void)map.at(c, row);
-    brought_back = map.spillFile().blockReads() - before;
+  scanhead::DiscPeakSampler served(map, points, radii), unserved(map, points, radii);
+  std::size_t visited = 0;
+  map.regions({{0, 0, map.width() / 2, map.height(), 4}}, [&](std::int64_t tile, const float* data) {
+    served.serve(tile, data);
+    ++visited;
   });
-  const std::vector<double> no_pass = scanhead::peaksNear(map, points, radii, [] {});
-  EXPECT_GT(brought_back, 10u);
+  const std::vector<double> during_pass = served.finish(map);
+  const std::vector<double> no_pass = unserved.finish(map);
+  EXPECT_GT(visited, 100u);
   EXPECT_EQ(expected.back(), 0.0);
   std::size_t positive = 0;
   for (std::size_t k = 0; k < points.size(); ++k)
@@ -135,6 +134,94 @@ TEST(TiledEnergyMap, PeaksNearEqualPeakNear)
     positive += expected[k] > 0.0 ? 1 : 0;
   }
   EXPECT_GT(positive, 200u);
+}
+
+// TrackEnergySampler (the track's energy served by the tiles another pass reads) gives the statistics of
+// trackEnergyProfile on the dense copy of the map bit for bit: the serpentine's own samples plus samples near the map's
+// edge and off it, served by a pass over the lower half (the rest read by finish()), and with no pass.
+TEST(TiledEnergyMap, TrackEnergySamplerEqualsTheDenseProfile)
+{
+  const std::unique_ptr<EnergyAccumulator> acc = spilledSerpentine(5);
+  const TiledEnergyMap& map = acc->map();
+  ASSERT_GT(map.tilesSpilled(), 100u);
+  std::vector<SpotSample> spots = serpentine(5).samples;
+  SpotSample off;  // a laser-off sample, then a burst along the map's lower edge and beyond it
+  spots.push_back(off);
+  for (int k = 0; k < 40; ++k)
+  {
+    SpotSample s;
+    s.power_w = 100.0;
+    s.actual = Eigen::Vector2d(-0.31e-3 + 0.2e-3 * k, -0.299e-3);
+    spots.push_back(s);
+  }
+  const double exclude = 0.1e-3;
+  const scanhead::TrackEnergyProfile dense = scanhead::trackEnergyProfile(map.toDense(), spots, exclude);
+  ASSERT_GT(dense.interior_samples, 10000u);
+  scanhead::TrackEnergySampler served(map, spots, exclude), unserved(map, spots, exclude);
+  map.regions({{0, 0, map.width(), map.height() / 2, 1}},
+              [&](std::int64_t tile, const float* data) { served.serve(tile, data); });
+  for (const scanhead::TrackEnergyProfile& t : {served.finish(map), unserved.finish(map)})
+  {
+    EXPECT_EQ(t.interior_samples, dense.interior_samples);
+    EXPECT_EQ(t.mean_jpm2, dense.mean_jpm2);
+    EXPECT_EQ(t.median_jpm2, dense.median_jpm2);
+    EXPECT_EQ(t.peak_jpm2, dense.peak_jpm2);
+    EXPECT_EQ(t.min_jpm2, dense.min_jpm2);
+    EXPECT_EQ(t.peak_point_m, dense.peak_point_m);
+    EXPECT_TRUE(t.energy_jpm2.empty());  // the per-sample arrays are not kept
+  }
+  EXPECT_GT(dense.mean_jpm2, 0.0);
+}
+
+// regions() reads each touched tile once for every region at once, and gives each region's floats bit for bit as
+// region() alone: the overview, overlapping crops at full resolution and in blocks, one partly off the map.
+TEST(TiledEnergyMap, RegionsInOnePassEqualRegionByRegion)
+{
+  const std::unique_ptr<EnergyAccumulator> acc = spilledSerpentine(6);
+  const TiledEnergyMap& map = acc->map();
+  const std::vector<TiledEnergyMap::RegionRequest> requests{{0, 0, map.width(), map.height(), 7},
+                                                            {100, 50, 300, 200, 1},
+                                                            {250, 120, 400, 333, 3},
+                                                            {-40, map.height() - 90, 200, 300, 5}};
+  std::vector<int> visits(static_cast<std::size_t>(map.tilesAcross() * ((map.height() + 63) / 64)), 0);
+  const std::vector<EnergyMap> together =
+      map.regions(requests, [&](std::int64_t tile, const float*) { ++visits[static_cast<std::size_t>(tile)]; });
+  ASSERT_EQ(together.size(), requests.size());
+  for (std::size_t k = 0; k < requests.size(); ++k)
+  {
+    const TiledEnergyMap::RegionRequest& r = requests[k];
+    const EnergyMap alone = map.region(r.col0, r.row0, r.w, r.h, r.factor);
+    EXPECT_EQ(together[k].width(), alone.width()) << k;
+    EXPECT_EQ(together[k].origin(), alone.origin()) << k;
+    EXPECT_TRUE(together[k].data() == alone.data()) << k;
+  }
+  std::size_t touched = 0;
+  for (const int v : visits)
+  {
+    EXPECT_LE(v, 1);
+    touched += static_cast<std::size_t>(v);
+  }
+  EXPECT_EQ(touched, map.tilesTouched());  // the overview covers them all: each read once
+}
+
+// releaseTiles() sends every resident tile to the file and frees their memory; the values stay, bit for bit, and the
+// map keeps accepting deposits (its tiles come back as needed).
+TEST(TiledEnergyMap, ReleasedTilesKeepTheirValues)
+{
+  const Eigen::Vector2d lo(-0.3e-3, -0.3e-3), hi(6.3e-3, 6.0e-3);
+  EnergyAccumulator small(withCache(1 << 20), lo, hi), large(withCache(1u << 30), lo, hi);
+  small.process(serpentine(7));
+  large.process(serpentine(7));
+  small.finish();
+  const std::vector<float> before = small.map().toDense().data();
+  small.map().releaseTiles();
+  EXPECT_EQ(small.map().tilesSpilled(), small.map().tilesTouched());  // every tile now in the file
+  EXPECT_TRUE(small.map().toDense().data() == before);
+  small.process(serpentine(8));
+  large.process(serpentine(8));
+  small.finish();
+  large.finish();
+  EXPECT_TRUE(small.map().toDense().data() == large.map().toDense().data());
 }
 
 // Only visited tiles exist: a whole 350 mm field at 5 µm (4.9e9 pixels) with one spot costs its

@@ -38,15 +38,16 @@ public:
   /// before returning.
   void process(const SpotChunk& chunk);
   /// \brief Ends the stream and returns the run's metrics (with stream.threads = 2, the nearest-path
-  /// pass on a second thread while the map is read: for the track's energy, the corner peaks, then mapViews()).
-  /// The last call: it frees the data only its figures read (the track samples, the actual path).
+  /// pass on a second thread while the map is read once: the track's energy, the corner peaks and mapViews()).
+  /// The last call: it frees the data only its figures read (the track samples, the actual path, a spilled map's
+  /// resident tiles).
   RunMetrics finish();
 
   /// \brief The energy map: complete after finish() (with stream.threads = 2 the strokes of the last chunk processed
   /// are added during the next one).
   const TiledEnergyMap& map() const { return accumulator_.map(); }
   /// \brief The overview and crops the results show (report/energy_exports.hpp), read from the map once: by
-  /// finish() with stream.threads = 2, else at the first call (after finish()). Not thread-safe.
+  /// finish(), or at the first call before it (a map still growing; read again after finish()). Not thread-safe.
   std::shared_ptr<const EnergyMapViews> mapViews() const;
   const TraceRecorder& trace() const { return trace_; }
   std::uint64_t samplesSeen() const { return counter_.samples(); }

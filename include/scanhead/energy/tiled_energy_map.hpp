@@ -67,6 +67,19 @@ public:
   /// area); its origin is that of pixel (col0, row0).
   /// \throws ConfigError from EnergyMap if the result exceeds 2^31 pixels
   EnergyMap region(std::int64_t col0, std::int64_t row0, std::int64_t w, std::int64_t h, int factor = 1) const;
+  /// \brief region()'s arguments.
+  struct RegionRequest
+  {
+    std::int64_t col0 = 0, row0 = 0, w = 0, h = 0;
+    int factor = 1;
+  };
+  /// \brief Shown each touched tile a pass reads: its index (row · tilesAcross() + column) and kTileSide² pixels
+  /// (row-major; 0 beyond the map's edge).
+  using TileVisitor = std::function<void(std::int64_t, const float*)>;
+  /// \brief region() of every request in one pass over the tiles in tile order: each tile is read once however many
+  /// regions overlap it, and shown to \p visit (other readers served by the same read of the spill file). Each region
+  /// adds its tiles in its own tile order: the same bits as region() one by one.
+  std::vector<EnergyMap> regions(const std::vector<RegionRequest>& requests, const TileVisitor& visit = {}) const;
   /// \brief The whole map in blocks of factor × factor pixels (region() of everything).
   EnergyMap overview(int factor) const { return region(0, 0, width_, height_, factor); }
   /// \brief The smallest block factor that brings w × h pixels to at most max_side a side.
@@ -100,10 +113,11 @@ public:
   /// \brief Tile \p tile's kTileSide² pixels (row-major; 0 beyond the map's edge), nullptr if untouched; a spilled
   /// tile is read into \p scratch (kTileSide² floats) without entering the cache.
   const float* tileData(std::int64_t tile, float* scratch) const { return tileForRead(tile, scratch); }
-  /// \brief Called with each spilled tile the cache brings back (index, pixels), until cleared with an empty
-  /// function: lets a pass over the map serve other readers from the tiles it reads anyway.
-  using TileObserver = std::function<void(std::int64_t, const float*)>;
-  void observeBroughtBack(TileObserver observer) const { observer_ = std::move(observer); }
+  /// \brief Every resident tile to the spill file (in batches of one eviction), and their buffers back to the system.
+  /// For a map that spilled, once its last writes are done: a pass in tile order (regions()) reads each tile once and
+  /// needs no cache, so the tiles' share of cache_bytes is memory the end of a run can use. Values are unchanged; a
+  /// later read brings tiles back as usual. \throws InputError naming the folder if the spill file cannot be written
+  void releaseTiles() const;
 
 private:
   struct Slot
@@ -118,6 +132,7 @@ private:
   float* residentTile(std::int64_t tile) const;
   const float* tileForRead(std::int64_t tile, float* scratch) const;
   void makeRoom() const;
+  void spillOldest(std::size_t count) const;  ///< the \p count least recently used resident tiles to the file
   /// \brief Σ and max of one tile's pixels, as summarise() combines them.
   struct TileSummary
   {
@@ -147,9 +162,8 @@ private:
   mutable TileSpillFile spill_;
   mutable std::int64_t hot_tile_ = -1;  ///< the tile last returned (a stencil's rows hit 1–4 tiles)
   mutable std::size_t hot_slot_ = 0;
-  mutable float* hot_data_ = nullptr;  ///< valid until the next makeRoom()
-  mutable bool hot_written_ = false;   ///< the hot tile came through tileForWrite (dirty, summary stale)
-  mutable TileObserver observer_;
+  mutable float* hot_data_ = nullptr;   ///< valid until the next makeRoom()
+  mutable bool hot_written_ = false;    ///< the hot tile came through tileForWrite (dirty, summary stale)
   mutable bool summary_valid_ = false;  ///< total_ and peak_ match the tiles
   mutable double total_ = 0.0;
   mutable float peak_ = 0.0f;

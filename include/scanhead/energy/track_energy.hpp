@@ -4,8 +4,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
-#include <functional>
+#include <cstdint>
 #include <vector>
 
 #include "scanhead/common/chunk.hpp"
@@ -58,19 +59,73 @@ struct TrackEnergyProfile
 /// \throws NumericalError on a non-finite actual spot of a laser-on sample
 TrackEnergyProfile trackEnergyProfile(const EnergyMap& map, const std::vector<SpotSample>& spots, double exclude_ends_m,
                                       const std::vector<Eigen::Vector2d>* track_ends = nullptr);
-/// \brief The same on the sparse map of a run.
-TrackEnergyProfile trackEnergyProfile(const TiledEnergyMap& map, const std::vector<SpotSample>& spots,
-                                      double exclude_ends_m, const std::vector<Eigen::Vector2d>* track_ends = nullptr);
+
+/// \brief trackEnergyProfile() on the sparse map of a run, from the tiles a pass over the map reads anyway
+/// (TiledEnergyMap::regions: the results' overview reads every tile once, so the spill file is read once for both).
+///
+/// The constructor takes what it needs of the track (the interior samples' spots: 16 B each; the samples may be freed
+/// then); serve() takes each tile's pixels the sample's four pixels lie on; finish() reads the tiles no pass served and
+/// returns the statistics, bit for bit those of trackEnergyProfile on the same pixels (the same bilinear expression on
+/// the same floats, the same order). The per-sample arrays (arc_m, energy_jpm2, interior) are left empty: a layer's
+/// million samples are not kept.
+class TrackEnergySampler
+{
+public:
+  /// \throws ConfigError, NumericalError as trackEnergyProfile
+  TrackEnergySampler(const TiledEnergyMap& map, const std::vector<SpotSample>& spots, double exclude_ends_m,
+                     const std::vector<Eigen::Vector2d>* track_ends = nullptr);
+  /// \brief Tile \p tile's pixels (kTileSide², row-major), read by a pass; a tile may come twice.
+  void serve(std::int64_t tile, const float* data);
+  /// \brief The profile's statistics (the tiles not served are read from \p map now). The last call.
+  TrackEnergyProfile finish(const TiledEnergyMap& map);
+
+  // The map's geometry, for the bilinear weights.
+  const Eigen::Vector2d& origin() const { return origin_; }
+  double pixel() const { return pixel_; }
+  std::int64_t width() const { return width_; }
+  std::int64_t height() const { return height_; }
+
+private:
+  std::int64_t tileOf(std::int64_t col, std::int64_t row) const;
+
+  Eigen::Vector2d origin_;
+  double pixel_ = 0.0;
+  std::int64_t width_ = 0, height_ = 0, tiles_across_ = 0;
+  std::vector<Eigen::Vector2d> where_;        ///< the interior samples' spots, in stream order
+  std::vector<std::array<float, 4>> pixels_;  ///< their four pixels (i0, j0), (i1, j0), (i0, j1), (i1, j1)
+  std::vector<std::uint64_t> requests_;       ///< tile · 2^32 + sample, sorted: the tiles each sample reads
+  std::vector<char> served_;                  ///< per request
+};
 
 /// \brief Largest E [J/m²] over the pixels whose centre lies within \p radius_m of \p point
 /// (the pixel holding the point if none does); 0 off the map.
 double peakNear(const TiledEnergyMap& map, const Eigen::Vector2d& point, double radius_m);
-/// \brief peakNear() of many discs in one pass over the tiles: while \p during runs (a pass that reads the map through
-/// its cache, e.g. trackEnergyProfile), every spilled tile the map brings back serves each disc that overlaps it;
-/// the tiles still owed after it are read then (resident ones from memory). A maximum does not depend on the order
-/// in which its pixels are seen (E ≥ 0; untouched pixels read 0): the values of peakNear, bit for bit, with the
-/// spill file read once instead of once more (the THESIS layer's corner peaks: 4.2 s of reads).
-/// \param[in] radii_m one per point [m]
-std::vector<double> peaksNear(const TiledEnergyMap& map, const std::vector<Eigen::Vector2d>& points,
-                              const std::vector<double>& radii_m, const std::function<void()>& during);
+
+/// \brief peakNear() of many discs from the tiles a pass over the map reads anyway (as TrackEnergySampler): each
+/// tile served serves every disc that overlaps it; finish() reads the tiles still owed. A maximum does not depend on
+/// the order in which its pixels are seen (E ≥ 0; untouched pixels read 0): the values of peakNear, bit for bit, with
+/// no read of the spill file of its own (the THESIS layer's corner peaks: 4.2 s of reads).
+class DiscPeakSampler
+{
+public:
+  /// \param[in] radii_m one per point [m]
+  DiscPeakSampler(const TiledEnergyMap& map, const std::vector<Eigen::Vector2d>& points,
+                  const std::vector<double>& radii_m);
+  /// \brief Tile \p tile's pixels (kTileSide², row-major), read by a pass; a tile may come twice.
+  void serve(std::int64_t tile, const float* data);
+  /// \brief Each disc's peak (the tiles not served are read from \p map now). The last call.
+  std::vector<double> finish(const TiledEnergyMap& map);
+
+private:
+  struct Disc
+  {
+    double u = 0.0, v = 0.0, r = 0.0;  ///< centre and radius [pixels]
+    std::int64_t col0 = 0, col1 = 0, row0 = 0, row1 = 0, point_col = 0, point_row = 0;
+  };
+  std::int64_t tiles_across_ = 0;
+  std::vector<Disc> discs_;
+  std::vector<double> peaks_;
+  std::vector<std::pair<std::int64_t, std::uint32_t>> owed_;  ///< (tile, disc), sorted by tile
+  std::vector<char> served_;                                  ///< per owed pair
+};
 }  // namespace scanhead

@@ -53,9 +53,14 @@ struct EnergyMapViews
 /// config.crop_regions region. \throws ConfigError from parseMapRegions
 std::vector<MapRegion> exportCrops(const Job& job, const EnergyConfig& config);
 
-/// \brief Reads the overview and the \p crops from \p map (not thread-safe: the map's tile cache may load spilled
-/// tiles). A run reads them while its last pass runs on the other core (EnergyStage::mapViews), not while writing.
-EnergyMapViews readEnergyMapViews(const TiledEnergyMap& map, const std::vector<MapRegion>& crops);
+/// \brief Reads the overview and the \p crops from \p map in one pass over its tiles (TiledEnergyMap::regions), showing
+/// \p visit each touched tile (the run's track energy and corner peaks are served by the same reads). Not thread-safe
+/// (the map's reads share its spill file's block cache). A run reads them while its last pass runs on the other core
+/// (EnergyStage::finish), not while writing.
+EnergyMapViews readEnergyMapViews(const TiledEnergyMap& map, const std::vector<MapRegion>& crops,
+                                  const TiledEnergyMap::TileVisitor& visit = {});
+/// \brief One crop of \p map as readEnergyMapViews reads it (a crop chosen after the pass: the worst corner).
+EnergyMapViews::View readCropView(const TiledEnergyMap& map, const MapRegion& crop);
 
 /// \brief The image tasks of \p views (three a grid, addFieldImageTasks) into \p dir; the crops folder is created now.
 void addEnergyViewTasks(TaskPool& pool, const std::string& dir, const EnergyMapViews& views);
