@@ -49,12 +49,12 @@ double sameInstantDistance(const PathPoints& path, std::size_t j, const Eigen::V
   const bool after = path.joinsNext(j);
   if (!before && !after)
     return (pj - p).norm();
-  double best = std::numeric_limits<double>::infinity();
+  double best2 = std::numeric_limits<double>::infinity();  // squared: one root for both segments
   if (before)
-    best = pointSegmentDistance(p, path.point(j - 1), pj);
+    best2 = pointSegmentDistance2(p, path.point(j - 1), pj);
   if (after)
-    best = std::min(best, pointSegmentDistance(p, pj, path.point(j + 1)));
-  return best;
+    best2 = std::min(best2, pointSegmentDistance2(p, pj, path.point(j + 1)));
+  return std::sqrt(best2);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -6,6 +6,7 @@
 
 #include "scanhead/common/segment_distance.hpp"
 #include "scanhead/common/side_thread.hpp"
+#include "scanhead/metrics/first_nearest.hpp"
 #include "scanhead/metrics/nearest_path_index.hpp"
 
 namespace scanhead
@@ -102,65 +103,6 @@ void LayerQuality::hold(std::uint64_t index, const Eigen::Vector2d& p)
   ring_y_[i] = ring_y_[mirror] = p.y();
 }
 
-namespace layer_quality_detail
-{
-/// Eight doubles: one AVX-512 register, two AVX2 or four SSE2 ones (GCC lowers the vector type to
-/// what the clone's target has; every lane does the same IEEE operations, so every clone gives the
-/// same bits; the library is built with -ffp-contract=off: no FMA).
-typedef double Double8 __attribute__((vector_size(64)));
-
-/// \brief Offset of the first smallest of (x_i − cx)² + (y_i − cy)², i < n, and that value (the
-/// loop `if (d2 < best) best = d2, at = i` from best = +inf, at = 0: NaN never wins, ties keep the
-/// first). Eight lanes take the offsets i ≡ lane (mod 8) with the same strict comparison, then the
-/// lanes are merged (smaller value; equal values: smaller offset), then the remainder in order.
-__attribute__((target_clones("avx512f", "avx2", "default"))) std::size_t firstNearest(const double* x, const double* y,
-                                                                                      std::size_t n, double cx,
-                                                                                      double cy, double& best_d2)
-{
-  const Double8 vcx = {cx, cx, cx, cx, cx, cx, cx, cx}, vcy = {cy, cy, cy, cy, cy, cy, cy, cy};
-  Double8 best = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
-  Double8 at = {0, 0, 0, 0, 0, 0, 0, 0};  // offsets as doubles (exact)
-  Double8 offset = {0, 1, 2, 3, 4, 5, 6, 7};
-  const Double8 eight = {8, 8, 8, 8, 8, 8, 8, 8};
-  std::size_t i = 0;
-  for (; i + 8 <= n; i += 8)
-  {
-    Double8 vx, vy;
-    __builtin_memcpy(&vx, x + i, sizeof vx);
-    __builtin_memcpy(&vy, y + i, sizeof vy);
-    const Double8 dx = vx - vcx, dy = vy - vcy;
-    const Double8 d2 = dx * dx + dy * dy;
-    const auto smaller = d2 < best;
-    best = smaller ? d2 : best;
-    at = smaller ? offset : at;
-    offset += eight;
-  }
-  double b = INFINITY;
-  std::size_t a = 0;
-  for (int lane = 0; lane < 8; ++lane)
-  {
-    const auto o = static_cast<std::size_t>(at[lane]);
-    if (best[lane] < b || (best[lane] == b && b < INFINITY && o < a))
-    {
-      b = best[lane];
-      a = o;
-    }
-  }
-  for (; i < n; ++i)  // the remainder comes last: a tie keeps the earlier
-  {
-    const double dx = x[i] - cx, dy = y[i] - cy;
-    const double d2 = dx * dx + dy * dy;
-    if (d2 < b)
-    {
-      b = d2;
-      a = i;
-    }
-  }
-  best_d2 = b;
-  return a;
-}
-}  // namespace layer_quality_detail
-
 void LayerQuality::sameInstant(std::uint64_t k)
 {
   // Command k pairs with the samples j = k + L ± N the ring holds: the nearest of them (the point of
@@ -177,15 +119,15 @@ void LayerQuality::sameInstant(std::uint64_t k)
   }
   double nearest_d2 = INFINITY;
   const std::size_t start = static_cast<std::size_t>(lo & ring_mask_);  // [lo, hi] contiguous from here
-  const std::uint64_t nearest = lo + layer_quality_detail::firstNearest(ring_x_.data() + start, ring_y_.data() + start,
-                                                                        static_cast<std::size_t>(hi - lo + 1),
-                                                                        c.point.x(), c.point.y(), nearest_d2);
-  double best = std::sqrt(nearest_d2);  // an isolated sample: the distance to it
+  const std::uint64_t nearest =
+      lo + firstNearest(ring_x_.data() + start, ring_y_.data() + start, static_cast<std::size_t>(hi - lo + 1),
+                        c.point.x(), c.point.y(), nearest_d2);
+  double best2 = nearest_d2;  // an isolated sample: the distance to it (squared: one root at the end, the same bits)
   if (nearest > ring_first_)
-    best = std::min(best, pointSegmentDistance(c.point, held(nearest - 1), held(nearest)));
+    best2 = std::min(best2, pointSegmentDistance2(c.point, held(nearest - 1), held(nearest)));
   if (nearest + 1 < next_index_)
-    best = std::min(best, pointSegmentDistance(c.point, held(nearest), held(nearest + 1)));
-  addTo(report_.same_instant, c.kind, best);
+    best2 = std::min(best2, pointSegmentDistance2(c.point, held(nearest), held(nearest + 1)));
+  addTo(report_.same_instant, c.kind, std::sqrt(best2));
 }
 
 void LayerQuality::unmatched(std::uint64_t k)

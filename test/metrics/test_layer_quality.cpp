@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "scanhead/common/segment_distance.hpp"
+#include "scanhead/metrics/first_nearest.hpp"
 #include "scanhead/metrics/layer_quality.hpp"
 
 using scanhead::ContourErrorStats;
@@ -280,4 +281,51 @@ TEST(LayerQuality, FillRateAndTheNearestPathCap)
   EXPECT_FALSE(r.nearest_measured);
   EXPECT_EQ(r.nearest_path.mark.count(), 0u);
   EXPECT_GT(r.same_instant.mark.count(), 0u);
+}
+
+// firstNearest (the same-instant search) against the loop it stands for: random windows of 0–59 samples with exact
+// ties (repeated points, a commanded point on them), NaN and infinite coordinates, every length's remainder.
+TEST(LayerQuality, FirstNearestIsTheLoopsFirstSmallest)
+{
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> pick(0, 9);
+  std::vector<double> x(64), y(64);
+  std::size_t ties = 0;
+  for (int trial = 0; trial < 200000; ++trial)
+  {
+    const std::size_t n = static_cast<std::size_t>(trial % 60);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const int q = pick(rng);
+      x[i] = q < 3 ? 0.25 * q : u(rng);  // three repeated points: ties
+      y[i] = q < 3 ? 0.5 : u(rng);
+      if (q == 9 && trial % 7 == 0)
+        x[i] = NAN;
+      if (q == 8 && trial % 11 == 0)
+        y[i] = INFINITY;
+    }
+    const double cx = pick(rng) < 5 ? 0.25 : u(rng), cy = 0.5;
+    double expected_d2 = INFINITY;
+    std::size_t expected = 0, equal = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const double dx = x[i] - cx, dy = y[i] - cy, d2 = dx * dx + dy * dy;
+      if (d2 < expected_d2)
+      {
+        expected_d2 = d2;
+        expected = i;
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const double dx = x[i] - cx, dy = y[i] - cy;
+      equal += dx * dx + dy * dy == expected_d2 ? 1 : 0;
+    }
+    ties += equal > 1 ? 1 : 0;
+    double d2 = 0.0;
+    ASSERT_EQ(scanhead::firstNearest(x.data(), y.data(), n, cx, cy, d2), expected) << trial;
+    ASSERT_EQ(d2, expected_d2) << trial;
+  }
+  EXPECT_GT(ties, 10000u);
 }
