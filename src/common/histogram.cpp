@@ -71,8 +71,8 @@ int Histogram::binOf(double x) const
 {
   // A guess, then the edges decide (the guess may round across one): any guess gives the same bin.
   const int n = bins();
-  int i = static_cast<int>(std::floor((x - lo_) * scale_));
-  i = std::clamp(i, 0, n - 1);
+  const double guess = (x - lo_) * scale_;  // truncated, not floored: below 0 the clamp gives 0 either way
+  int i = guess > 0.0 ? (guess < n - 1 ? static_cast<int>(guess) : n - 1) : 0;
   const double* edge = edges_.data();
   while (i > 0 && x < edge[i])
     --i;

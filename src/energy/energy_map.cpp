@@ -17,43 +17,58 @@ constexpr double kMaxPixels = 2147483648.0;  // 2^31
 
 }  // namespace
 
-/// \brief y[k] += c·x[k], k < n: the hot loop of the accumulator (one stencil row).
-///
-/// Written with GCC/Clang vector extensions so it is vectorised at -O2 on any target
-/// (SSE on x86-64, NEON on ARM); the order of operations per element is fixed, so results
-/// depend only on the inputs (chunk invariance holds bit for bit).
-void axpyRow(float* y, const float* x, float c, int n)
+namespace
 {
+/// \brief y[k] += c·x[k] in vectors of \p Vec (GCC/Clang vector extensions: vectorised at -O2 on any target), then
+/// one at a time; each element's operations are the same whatever the vector width, so the results are too.
+template <class Vec>
+inline void axpyVectors(float* y, const float* x, float c, int n)
+{
+  constexpr int lanes = sizeof(Vec) / sizeof(float);
+  Vec cv = {};
+  cv += c;
   int k = 0;
-#if defined(__GNUC__)
-#if defined(__AVX__)
-  typedef float Vec8 __attribute__((vector_size(32)));
-  const Vec8 cv8 = {c, c, c, c, c, c, c, c};
-  for (; k + 8 <= n; k += 8)
+  for (; k + lanes <= n; k += lanes)
   {
-    Vec8 xv, yv;
-    std::memcpy(&xv, x + k, sizeof(Vec8));
-    std::memcpy(&yv, y + k, sizeof(Vec8));
-    yv += cv8 * xv;
-    std::memcpy(y + k, &yv, sizeof(Vec8));
-  }
-#endif
-  // 16-byte vectors: native on SSE2 / NEON (32-byte ones are split and spilled without AVX).
-  typedef float Vec4 __attribute__((vector_size(16)));
-  const Vec4 cv = {c, c, c, c};
-  for (; k + 4 <= n; k += 4)
-  {
-    Vec4 xv, yv;
-    std::memcpy(&xv, x + k, sizeof(Vec4));
-    std::memcpy(&yv, y + k, sizeof(Vec4));
+    Vec xv, yv;
+    std::memcpy(&xv, x + k, sizeof(Vec));
+    std::memcpy(&yv, y + k, sizeof(Vec));
     yv += cv * xv;
-    std::memcpy(y + k, &yv, sizeof(Vec4));
+    std::memcpy(y + k, &yv, sizeof(Vec));
   }
-#endif
   for (; k < n; ++k)
   {
     y[k] += c * x[k];
   }
+}
+typedef float Float4 __attribute__((vector_size(16)));
+typedef float Float8 __attribute__((vector_size(32)));
+
+#if defined(__GNUC__) && defined(__x86_64__)
+/// AVX2's 32-byte vectors where the CPU has them (the library is built for baseline x86-64: SSE2, where 32-byte vectors
+/// are split and spilled); no FMA either way (-ffp-contract=off), so the same bits.
+__attribute__((target("avx2"))) void axpyRowAvx2(float* y, const float* x, float c, int n)
+{
+  axpyVectors<Float8>(y, x, c, n);
+}
+const bool kHasAvx2 = __builtin_cpu_supports("avx2");
+#endif
+}  // namespace
+
+/// \brief y[k] += c·x[k], k < n: the hot loop of the accumulator (one map row of a window's weights).
+///
+/// The order of operations per element is fixed, so results depend only on the inputs (chunk invariance holds bit for
+/// bit) and not on the vector width.
+void axpyRow(float* y, const float* x, float c, int n)
+{
+#if defined(__GNUC__) && defined(__x86_64__)
+  if (kHasAvx2)
+  {
+    axpyRowAvx2(y, x, c, n);
+    return;
+  }
+#endif
+  axpyVectors<Float4>(y, x, c, n);  // 16-byte vectors: native on SSE2 / NEON
 }
 
 double pixelsAcross(double extent_m, double pixel_m)
