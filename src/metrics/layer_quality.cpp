@@ -2,6 +2,7 @@
 #include "scanhead/metrics/layer_quality.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "scanhead/common/segment_distance.hpp"
@@ -212,49 +213,72 @@ void LayerQuality::process(const SpotChunk& chunk)
 
 void LayerQuality::nearestPathPass(const NearestPathIndex& index, unsigned threads)
 {
-  // The queries are independent: a block's distances are computed in two halves, the second on a side thread, then
-  // added to the statistics in order by this thread (the same sums, bit for bit, as one thread). A block of 2^15
-  // points is ~5 ms of searching: the hand-over costs ~0.1 % of it, and the block's buffers stay in L2.
+  // The queries are independent: a block's distances are computed in pieces that this thread and a side thread take in
+  // turn (an atomic counter: neither waits for the other's half when a core is taken from it), and added to the
+  // statistics in order by this thread while the side thread already searches the next block (double buffers: the
+  // side thread never waits for the additions). The same sums, bit for bit, as one thread. A block of 2^15 points is
+  // ~5 ms of searching: the hand-over costs ~0.1 % of it, and the block's buffers stay in L2.
   constexpr std::uint64_t kBlock = std::uint64_t{1} << 15;
-  struct Part
+  constexpr std::uint64_t kPiece = std::uint64_t{1} << 10;
+  struct Searcher
   {
-    PathTimeline::Cursor cursor;
-    NearestPathHint hint;  ///< the leaf of the part's last query (consecutive points share it)
-    std::vector<double> distance;
-    std::vector<Kind> kind;
+    PathTimeline::Cursor cursor;  ///< each thread's own, moving forward
+    NearestPathHint hint;         ///< the leaf of its last query (consecutive points share it)
   };
-  const auto measure = [this, &index](std::uint64_t k0, std::uint64_t k1, Part& part) {
-    part.distance.resize(static_cast<std::size_t>(k1 - k0));
-    part.kind.resize(part.distance.size());
-    for (std::uint64_t k = k0; k < k1; ++k)
+  struct Results
+  {
+    std::vector<double> distance = std::vector<double>(static_cast<std::size_t>(kBlock));
+    std::vector<Kind> kind = std::vector<Kind>(static_cast<std::size_t>(kBlock));
+  };
+  Results results[2];
+  std::atomic<std::uint64_t> next_piece{0};
+  const auto measure = [this, &index, &next_piece](std::uint64_t k0, std::uint64_t k1, Results& out,
+                                                   Searcher& searcher) {
+    const std::uint64_t pieces = (k1 - k0 + kPiece - 1) / kPiece;
+    for (std::uint64_t piece; (piece = next_piece.fetch_add(1, std::memory_order_relaxed)) < pieces;)
     {
-      const Command c = commandAt(k, part.cursor);
-      const std::uint64_t j = k + lag_samples_;
-      // The same-instant error on the stored path bounds the search (exact: a distance to it).
-      const double bound = !path_gapped_ && j < path_.size()
-                               ? sameInstantDistance(path_, static_cast<std::size_t>(j), c.point)
-                               : INFINITY;
-      part.distance[k - k0] = index.distance(c.point, bound, nullptr, &part.hint);
-      part.kind[k - k0] = c.kind;
+      const std::uint64_t from = k0 + piece * kPiece, to = std::min(k1, from + kPiece);
+      for (std::uint64_t k = from; k < to; ++k)
+      {
+        const Command c = commandAt(k, searcher.cursor);
+        const std::uint64_t j = k + lag_samples_;
+        // The same-instant error on the stored path bounds the search (exact: a distance to it).
+        const double bound = !path_gapped_ && j < path_.size()
+                                 ? sameInstantDistance(path_, static_cast<std::size_t>(j), c.point)
+                                 : INFINITY;
+        out.distance[k - k0] = index.distance(c.point, bound, nullptr, &searcher.hint);
+        out.kind[k - k0] = c.kind;
+      }
     }
   };
   std::unique_ptr<SideThread> side =
       threads >= 2 && program_samples_ > kBlock ? std::make_unique<SideThread>() : nullptr;
-  Part first, second;
-  for (std::uint64_t k0 = 0; k0 < program_samples_; k0 += kBlock)
+  Searcher mine, other;
+  const std::uint64_t blocks = (program_samples_ + kBlock - 1) / kBlock;
+  // Block b: searched (by both threads) while block b − 1 is added up (by this one).
+  for (std::uint64_t b = 0; b <= blocks; ++b)
   {
-    const std::uint64_t k1 = std::min(k0 + kBlock, program_samples_);
-    const std::uint64_t mid = side ? k0 + (k1 - k0) / 2 : k1;
-    if (side)
-      side->start([&measure, mid, k1, &second] { measure(mid, k1, second); });
-    measure(k0, mid, first);
-    if (side)
-      side->wait();
-    for (std::size_t i = 0; i < first.distance.size(); ++i)
-      addTo(report_.nearest_path, first.kind[i], first.distance[i]);
-    if (side)
-      for (std::size_t i = 0; i < second.distance.size(); ++i)
-        addTo(report_.nearest_path, second.kind[i], second.distance[i]);
+    const std::uint64_t k0 = b * kBlock, k1 = std::min(k0 + kBlock, program_samples_);
+    Results& out = results[b % 2];
+    if (b < blocks)
+    {
+      next_piece.store(0, std::memory_order_relaxed);
+      if (side)
+        side->start([&measure, k0, k1, &out, &other] { measure(k0, k1, out, other); });
+    }
+    if (b > 0)
+    {
+      const Results& done = results[(b - 1) % 2];
+      const std::uint64_t d0 = (b - 1) * kBlock, d1 = std::min(d0 + kBlock, program_samples_);
+      for (std::uint64_t k = d0; k < d1; ++k)
+        addTo(report_.nearest_path, done.kind[k - d0], done.distance[k - d0]);
+    }
+    if (b < blocks)
+    {
+      measure(k0, k1, out, mine);
+      if (side)
+        side->wait();
+    }
   }
 }
 
