@@ -43,18 +43,18 @@ struct Bilinear
   }
 };
 
-template <class Map>
-Bilinear bilinearAt(const Map& map, const Eigen::Vector2d& p)
+/// \brief The bilinear stencil at \p p on a map of \p width × \p height pixels of side \p pixel from \p origin.
+Bilinear bilinearAt(const Eigen::Vector2d& origin, double pixel, std::int64_t width, std::int64_t height,
+                    const Eigen::Vector2d& p)
 {
   Bilinear w;
-  const double pixel = map.pixel();
-  const double x = (p.x() - map.origin().x()) / pixel;  // [pixels] from the map's corner
-  const double y = (p.y() - map.origin().y()) / pixel;
-  w.on_map = x >= 0.0 && x <= static_cast<double>(map.width()) && y >= 0.0 && y <= static_cast<double>(map.height());
+  const double x = (p.x() - origin.x()) / pixel;  // [pixels] from the map's corner
+  const double y = (p.y() - origin.y()) / pixel;
+  w.on_map = x >= 0.0 && x <= static_cast<double>(width) && y >= 0.0 && y <= static_cast<double>(height);
   if (w.on_map)
   {
-    axisWeights(x - 0.5, map.width(), w.i0, w.i1, w.a);
-    axisWeights(y - 0.5, map.height(), w.j0, w.j1, w.b);
+    axisWeights(x - 0.5, width, w.i0, w.i1, w.a);
+    axisWeights(y - 0.5, height, w.j0, w.j1, w.b);
   }
   return w;
 }
@@ -63,7 +63,7 @@ Bilinear bilinearAt(const Map& map, const Eigen::Vector2d& p)
 template <class Map>
 double bilinear(const Map& map, const Eigen::Vector2d& p)
 {
-  const Bilinear w = bilinearAt(map, p);
+  const Bilinear w = bilinearAt(map.origin(), map.pixel(), map.width(), map.height(), p);
   if (!w.on_map)
     return 0.0;
   return w.value(map.at(w.i0, w.j0), map.at(w.i1, w.j0), map.at(w.i0, w.j1), map.at(w.i1, w.j1));
@@ -244,7 +244,7 @@ TrackEnergySampler::TrackEnergySampler(const TiledEnergyMap& map, const std::vec
   // One request per (tile, sample) the sample's four pixels lie on, sorted by tile: key = tile · 2^32 + sample.
   for (std::size_t q = 0; q < where_.size(); ++q)
   {
-    const Bilinear w = bilinearAt(*this, where_[q]);
+    const Bilinear w = bilinearAt(origin_, pixel_, width_, height_, where_[q]);
     if (!w.on_map)
       continue;
     const std::int64_t tiles[4] = {tileOf(w.i0, w.j0), tileOf(w.i1, w.j0), tileOf(w.i0, w.j1), tileOf(w.i1, w.j1)};
@@ -270,7 +270,7 @@ void TrackEnergySampler::serve(std::int64_t tile, const float* data)
   {
     served_[static_cast<std::size_t>(it - requests_.begin())] = 1;
     const std::size_t q = static_cast<std::uint32_t>(*it);
-    const Bilinear w = bilinearAt(*this, where_[q]);
+    const Bilinear w = bilinearAt(origin_, pixel_, width_, height_, where_[q]);
     const std::int64_t cols[4] = {w.i0, w.i1, w.i0, w.i1}, rows[4] = {w.j0, w.j0, w.j1, w.j1};
     for (int c = 0; c < 4; ++c)
       if (tileOf(cols[c], rows[c]) == tile)
@@ -294,7 +294,7 @@ TrackEnergyProfile TrackEnergySampler::finish(const TiledEnergyMap& map)
   for (std::size_t q = 0; q < where_.size(); ++q)
   {
     const std::array<float, 4>& e = pixels_[q];
-    values[q] = bilinearAt(*this, where_[q]).value(e[0], e[1], e[2], e[3]);
+    values[q] = bilinearAt(origin_, pixel_, width_, height_, where_[q]).value(e[0], e[1], e[2], e[3]);
   }
   requests_ = {};
   served_ = {};

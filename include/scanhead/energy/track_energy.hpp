@@ -79,16 +79,10 @@ public:
   /// \brief The profile's statistics (the tiles not served are read from \p map now). The last call.
   TrackEnergyProfile finish(const TiledEnergyMap& map);
 
-  // The map's geometry, for the bilinear weights.
-  const Eigen::Vector2d& origin() const { return origin_; }
-  double pixel() const { return pixel_; }
-  std::int64_t width() const { return width_; }
-  std::int64_t height() const { return height_; }
-
 private:
   std::int64_t tileOf(std::int64_t col, std::int64_t row) const;
 
-  Eigen::Vector2d origin_;
+  Eigen::Vector2d origin_;  ///< the map's geometry, for the bilinear weights
   double pixel_ = 0.0;
   std::int64_t width_ = 0, height_ = 0, tiles_across_ = 0;
   std::vector<Eigen::Vector2d> where_;        ///< the interior samples' spots, in stream order
