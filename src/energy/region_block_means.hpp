@@ -30,6 +30,11 @@ public:
   std::int64_t lastTileRow() const { return std::min((r1_ - 1) / kSide, tiles_y_ - 1); }
   std::int64_t firstTileColumn() const { return c0_ / kSide; }
   std::int64_t lastTileColumn() const { return std::min((c1_ - 1) / kSide, tiles_x_ - 1); }
+  bool coversTileRow(std::int64_t tile_row) const { return tile_row >= firstTileRow() && tile_row <= lastTileRow(); }
+  bool coversTile(std::int64_t tile_row, std::int64_t tile_column) const
+  {
+    return coversTileRow(tile_row) && tile_column >= firstTileColumn() && tile_column <= lastTileColumn();
+  }
 
   /// \brief Adds tile (tile_row, tile_column)'s pixels (kTileSide², row-major); tiles come in tile order.
   void addTile(std::int64_t tile_row, std::int64_t tile_column, const float* data);

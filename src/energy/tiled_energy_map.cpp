@@ -2,9 +2,9 @@
 /// \brief Sparse tiled energy map with a bounded cache and a spill file.
 #include "scanhead/energy/tiled_energy_map.hpp"
 
+#include <malloc.h>
 #include <algorithm>
 #include <cmath>
-#include <malloc.h>
 #include <sstream>
 
 #include "region_block_means.hpp"
@@ -412,10 +412,7 @@ std::vector<EnergyMap> TiledEnergyMap::regions(const std::vector<RegionRequest>&
   {
     for (std::int64_t ti = first_column; ti <= last_column; ++ti)
     {
-      auto covers = [tj, ti](const RegionBlockMeans& region) {
-        return tj >= region.firstTileRow() && tj <= region.lastTileRow() && ti >= region.firstTileColumn() &&
-               ti <= region.lastTileColumn();
-      };
+      auto covers = [tj, ti](const RegionBlockMeans& region) { return region.coversTile(tj, ti); };
       if (std::none_of(sums.begin(), sums.end(), covers))
         continue;  // between regions: not read
       const float* data = tileForRead(tj * tiles_x_ + ti, scratch.data());
@@ -428,7 +425,7 @@ std::vector<EnergyMap> TiledEnergyMap::regions(const std::vector<RegionRequest>&
           region.addTile(tj, ti, data);
     }
     for (RegionBlockMeans& region : sums)
-      if (tj >= region.firstTileRow() && tj <= region.lastTileRow())
+      if (region.coversTileRow(tj))
         region.endTileRow(tj);
   }
   std::vector<EnergyMap> out;

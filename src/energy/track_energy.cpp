@@ -250,10 +250,9 @@ TrackEnergySampler::TrackEnergySampler(const TiledEnergyMap& map, const std::vec
     const std::int64_t tiles[4] = {tileOf(w.i0, w.j0), tileOf(w.i1, w.j0), tileOf(w.i0, w.j1), tileOf(w.i1, w.j1)};
     for (int c = 0; c < 4; ++c)
       if (std::find(tiles, tiles + c, tiles[c]) == tiles + c)
-        requests_.push_back(static_cast<std::uint64_t>(tiles[c]) << 32 | q);
+        requests_.add(tiles[c], static_cast<std::uint32_t>(q));
   }
-  std::sort(requests_.begin(), requests_.end());
-  served_.assign(requests_.size(), 0);
+  requests_.sort();
 }
 
 std::int64_t TrackEnergySampler::tileOf(std::int64_t col, std::int64_t row) const
@@ -264,40 +263,25 @@ std::int64_t TrackEnergySampler::tileOf(std::int64_t col, std::int64_t row) cons
 void TrackEnergySampler::serve(std::int64_t tile, const float* data)
 {
   constexpr std::int64_t side = TiledEnergyMap::kTileSide;
-  const auto key = static_cast<std::uint64_t>(tile) << 32;
-  for (auto it = std::lower_bound(requests_.begin(), requests_.end(), key);
-       it != requests_.end() && (*it >> 32) == static_cast<std::uint64_t>(tile); ++it)
-  {
-    served_[static_cast<std::size_t>(it - requests_.begin())] = 1;
-    const std::size_t q = static_cast<std::uint32_t>(*it);
+  requests_.forTile(tile, [&](std::uint32_t q) {
     const Bilinear w = bilinearAt(origin_, pixel_, width_, height_, where_[q]);
     const std::int64_t cols[4] = {w.i0, w.i1, w.i0, w.i1}, rows[4] = {w.j0, w.j0, w.j1, w.j1};
     for (int c = 0; c < 4; ++c)
       if (tileOf(cols[c], rows[c]) == tile)
         pixels_[q][static_cast<std::size_t>(c)] = data[(rows[c] % side) * side + cols[c] % side];
-  }
+  });
 }
 
 TrackEnergyProfile TrackEnergySampler::finish(const TiledEnergyMap& map)
 {
-  // The tiles no pass served (resident or spilled), in tile order; untouched tiles read 0, as at().
-  std::vector<float> scratch(static_cast<std::size_t>(TiledEnergyMap::kTileBytes / sizeof(float)));
-  for (std::size_t k = 0; k < requests_.size(); ++k)
-  {
-    const std::int64_t tile = static_cast<std::int64_t>(requests_[k] >> 32);
-    if (served_[k] || (k > 0 && (requests_[k - 1] >> 32) == (requests_[k] >> 32)))
-      continue;
-    if (const float* data = map.tileData(tile, scratch.data()))
-      serve(tile, data);
-  }
+  // The tiles no pass served; untouched tiles read 0, as at(): their pixels stay 0.
+  requests_.serveTheRest(map, [this](std::int64_t tile, const float* data) { serve(tile, data); });
   std::vector<double> values(where_.size());
   for (std::size_t q = 0; q < where_.size(); ++q)
   {
     const std::array<float, 4>& e = pixels_[q];
     values[q] = bilinearAt(origin_, pixel_, width_, height_, where_[q]).value(e[0], e[1], e[2], e[3]);
   }
-  requests_ = {};
-  served_ = {};
   pixels_ = {};
   TrackEnergyProfile out;
   addStatistics(out, std::move(values), where_);
@@ -348,22 +332,18 @@ DiscPeakSampler::DiscPeakSampler(const TiledEnergyMap& map, const std::vector<Ei
     const std::int64_t r0 = std::max<std::int64_t>(0, d.row0), r1 = std::min(map.height() - 1, d.row1);
     for (std::int64_t tr = r0 / side; r0 <= r1 && tr <= r1 / side; ++tr)
       for (std::int64_t tc = c0 / side; c0 <= c1 && tc <= c1 / side; ++tc)
-        owed_.emplace_back(tr * tiles_across_ + tc, static_cast<std::uint32_t>(i));
+        owed_.add(tr * tiles_across_ + tc, static_cast<std::uint32_t>(i));
   }
-  std::sort(owed_.begin(), owed_.end());
-  served_.assign(owed_.size(), 0);
+  owed_.sort();
 }
 
 void DiscPeakSampler::serve(std::int64_t tile, const float* data)
 {
   const std::int64_t side = TiledEnergyMap::kTileSide;
   const std::int64_t tr = tile / tiles_across_, tc = tile % tiles_across_;
-  for (auto it = std::lower_bound(owed_.begin(), owed_.end(), std::make_pair(tile, std::uint32_t{0}));
-       it != owed_.end() && it->first == tile; ++it)
-  {
-    served_[static_cast<std::size_t>(it - owed_.begin())] = 1;
-    const Disc& d = discs_[it->second];
-    double& peak = peaks_[it->second];
+  owed_.forTile(tile, [&](std::uint32_t i) {
+    const Disc& d = discs_[i];
+    double& peak = peaks_[i];
     const std::int64_t r0 = std::max(d.row0, tr * side), r1 = std::min(d.row1, tr * side + side - 1);
     const std::int64_t c0 = std::max(d.col0, tc * side), c1 = std::min(d.col1, tc * side + side - 1);
     for (std::int64_t row = r0; row <= r1; ++row)
@@ -373,22 +353,13 @@ void DiscPeakSampler::serve(std::int64_t tile, const float* data)
         if (dx * dx + dy * dy <= d.r * d.r || (col == d.point_col && row == d.point_row))
           peak = std::max(peak, static_cast<double>(data[(row - tr * side) * side + (col - tc * side)]));
       }
-  }
+  });
 }
 
 std::vector<double> DiscPeakSampler::finish(const TiledEnergyMap& map)
 {
-  // The tiles no pass served (resident or spilled), in tile order; untouched tiles read 0.
-  std::vector<float> scratch(static_cast<std::size_t>(TiledEnergyMap::kTileBytes / sizeof(float)));
-  for (std::size_t k = 0; k < owed_.size(); ++k)
-  {
-    if (served_[k] || (k > 0 && owed_[k].first == owed_[k - 1].first))
-      continue;
-    if (const float* data = map.tileData(owed_[k].first, scratch.data()))
-      serve(owed_[k].first, data);
-  }
-  owed_ = {};
-  served_ = {};
+  // The tiles no pass served; untouched tiles read 0 and E ≥ 0: they change no peak.
+  owed_.serveTheRest(map, [this](std::int64_t tile, const float* data) { serve(tile, data); });
   return std::move(peaks_);
 }
 }  // namespace scanhead

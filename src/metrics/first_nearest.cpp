@@ -5,11 +5,11 @@
 
 namespace scanhead
 {
+namespace
+{
 /// Four doubles: one AVX2 register, two SSE2 ones (GCC lowers the vector type to what the clone's target has; every
 /// lane does the same IEEE operations as the scalar expression, so every clone gives the same bits; the library is
 /// built with -ffp-contract=off: no FMA).
-namespace
-{
 typedef double Double4 __attribute__((vector_size(32)));
 }  // namespace
 

@@ -11,6 +11,7 @@
 
 #include "scanhead/common/chunk.hpp"
 #include "scanhead/energy/energy_map.hpp"
+#include "scanhead/energy/tile_requests.hpp"
 #include "scanhead/energy/tiled_energy_map.hpp"
 
 namespace scanhead
@@ -87,8 +88,7 @@ private:
   std::int64_t width_ = 0, height_ = 0, tiles_across_ = 0;
   std::vector<Eigen::Vector2d> where_;        ///< the interior samples' spots, in stream order
   std::vector<std::array<float, 4>> pixels_;  ///< their four pixels (i0, j0), (i1, j0), (i0, j1), (i1, j1)
-  std::vector<std::uint64_t> requests_;       ///< tile · 2^32 + sample, sorted: the tiles each sample reads
-  std::vector<char> served_;                  ///< per request
+  TileRequests requests_;                     ///< the tiles each sample's pixels lie on
 };
 
 /// \brief Largest E [J/m²] over the pixels whose centre lies within \p radius_m of \p point
@@ -119,7 +119,6 @@ private:
   std::int64_t tiles_across_ = 0;
   std::vector<Disc> discs_;
   std::vector<double> peaks_;
-  std::vector<std::pair<std::int64_t, std::uint32_t>> owed_;  ///< (tile, disc), sorted by tile
-  std::vector<char> served_;                                  ///< per owed pair
+  TileRequests owed_;  ///< the tiles each disc overlaps
 };
 }  // namespace scanhead
