@@ -136,28 +136,48 @@ struct NodeScratch
   std::vector<double> sums;                    ///< their weights' sums
 };
 
-/// \brief rows[j][0 … 8·blocks) += Σ_m a[m·a_stride + j]·g[m·8·blocks + …], the products summed in m order, then
-/// added (the same bits on every clone, no FMA).
-SCANHEAD_LANE_INLINE void addOuterProducts(float* __restrict rows, std::size_t stride, int n_rows, int blocks, int rank,
-                                           const float* __restrict a, std::size_t a_stride, const float* __restrict g)
+/// \brief rows[j][0 … 8·blocks) += Σ_m a[m·a_stride + j]·g[m·8·blocks + …] for a rank \p R known when compiled: the
+/// row's R factors broadcast once, the products summed in m order, then added (the same bits as the loop over any
+/// rank below and on every clone, no FMA).
+template <int R>
+SCANHEAD_LANE_INLINE void addOuterProductsOfRank(float* __restrict rows, std::size_t stride, int n_rows, int blocks,
+                                                 const float* __restrict a, std::size_t a_stride,
+                                                 const float* __restrict g)
+{
+  const std::size_t g_stride = 8 * static_cast<std::size_t>(blocks);
+  for (int j = 0; j < n_rows; ++j)
+  {
+    float* __restrict row = rows + static_cast<std::size_t>(j) * stride;
+    F8 factor[R];
+    for (int m = 0; m < R; ++m)
+      factor[m] = splat(a[static_cast<std::size_t>(m) * a_stride + static_cast<std::size_t>(j)]);
+    for (int b = 0; b < blocks; ++b)
+    {
+      F8 gb, v;
+      std::memcpy(&gb, g + 8 * b, sizeof gb);
+      F8 sum = factor[0] * gb;
+      for (int m = 1; m < R; ++m)
+      {
+        std::memcpy(&gb, g + static_cast<std::size_t>(m) * g_stride + 8 * b, sizeof gb);
+        sum += factor[m] * gb;
+      }
+      std::memcpy(&v, row + 8 * b, sizeof v);
+      v += sum;
+      std::memcpy(row + 8 * b, &v, sizeof v);
+    }
+  }
+}
+
+/// \brief The same for any rank (the factors read in the block loop: the ranks beyond the unrolled ones are rare).
+SCANHEAD_LANE_INLINE void addOuterProductsOfAnyRank(float* __restrict rows, std::size_t stride, int n_rows, int blocks,
+                                                    int rank, const float* __restrict a, std::size_t a_stride,
+                                                    const float* __restrict g)
 {
   const std::size_t g_stride = 8 * static_cast<std::size_t>(blocks);
   for (int j = 0; j < n_rows; ++j)
   {
     float* __restrict row = rows + static_cast<std::size_t>(j) * stride;
     const F8 a0 = splat(a[j]);
-    if (rank == 1)
-    {
-      for (int b = 0; b < blocks; ++b)
-      {
-        F8 gb, v;
-        std::memcpy(&gb, g + 8 * b, sizeof gb);
-        std::memcpy(&v, row + 8 * b, sizeof v);
-        v += a0 * gb;
-        std::memcpy(row + 8 * b, &v, sizeof v);
-      }
-      continue;
-    }
     for (int b = 0; b < blocks; ++b)
     {
       F8 gb, v;
@@ -172,6 +192,34 @@ SCANHEAD_LANE_INLINE void addOuterProducts(float* __restrict rows, std::size_t s
       v += sum;
       std::memcpy(row + 8 * b, &v, sizeof v);
     }
+  }
+}
+
+/// \brief rows[j][0 … 8·blocks) += Σ_m a[m·a_stride + j]·g[m·8·blocks + …], ranks 1 … 8 unrolled (the oblique
+/// footprints of a layer take 2 … 5: node_deposit.hpp's ρ bounds).
+SCANHEAD_LANE_INLINE void addOuterProducts(float* __restrict rows, std::size_t stride, int n_rows, int blocks, int rank,
+                                           const float* __restrict a, std::size_t a_stride, const float* __restrict g)
+{
+  switch (rank)
+  {
+    case 1:
+      return addOuterProductsOfRank<1>(rows, stride, n_rows, blocks, a, a_stride, g);
+    case 2:
+      return addOuterProductsOfRank<2>(rows, stride, n_rows, blocks, a, a_stride, g);
+    case 3:
+      return addOuterProductsOfRank<3>(rows, stride, n_rows, blocks, a, a_stride, g);
+    case 4:
+      return addOuterProductsOfRank<4>(rows, stride, n_rows, blocks, a, a_stride, g);
+    case 5:
+      return addOuterProductsOfRank<5>(rows, stride, n_rows, blocks, a, a_stride, g);
+    case 6:
+      return addOuterProductsOfRank<6>(rows, stride, n_rows, blocks, a, a_stride, g);
+    case 7:
+      return addOuterProductsOfRank<7>(rows, stride, n_rows, blocks, a, a_stride, g);
+    case 8:
+      return addOuterProductsOfRank<8>(rows, stride, n_rows, blocks, a, a_stride, g);
+    default:
+      return addOuterProductsOfAnyRank(rows, stride, n_rows, blocks, rank, a, a_stride, g);
   }
 }
 
