@@ -21,6 +21,7 @@ const EnergyConfig& validated(const EnergyConfig& config)
 EnergyAccumulator::EnergyAccumulator(const EnergyConfig& config, const Eigen::Vector2d& min_corner,
                                      const Eigen::Vector2d& max_corner)
   : config_(validated(config))
+  , footprint_(config_)
   , method_(config.method == "exact"     ? Method::kExact
             : config.method == "sampled" ? Method::kSampled
                                          : Method::kTrapezoid)
@@ -134,7 +135,7 @@ void EnergyAccumulator::deposit(const SpotSample& from, const Eigen::Vector2d& t
   // The checks of the sampled method, with its messages, at the same sample.
   const double length = (to - from.actual).norm();
   energy_detail::requireFiniteSegment(from.actual, to, length);
-  const SpotFootprint fp = spotFootprint(config_, from.direction);
+  const SpotFootprint fp = footprint_(from.direction);
   energy_detail::substepsOf(length, config_, fp);
   energy_detail::stencilRadius(config_, fp, map_.pixel());
   if (method_ == Method::kTrapezoid)

@@ -46,6 +46,7 @@ inline void copyAndAdvance(float* w, float* p, const float* r, int n)
 
 SampledDeposit::SampledDeposit(const EnergyConfig& config)
   : config_(config)
+  , footprint_(config_)
 {
 }
 
@@ -56,7 +57,7 @@ void SampledDeposit::deposit(TiledEnergyMap& map_, const SpotSample& from_sample
   const Eigen::Vector2d delta = to - from;
   const double length = delta.norm();
   energy_detail::requireFiniteSegment(from, to, length);
-  const SpotFootprint fp = spotFootprint(config_, from_sample.direction);
+  const SpotFootprint fp = footprint_(from_sample.direction);
   const double steps = energy_detail::substepsOf(length, config_, fp);
   const int m = static_cast<int>(steps);
   const double e = energy_j / steps;

@@ -11,6 +11,23 @@ namespace scanhead
 {
 SpotFootprint spotFootprint(const EnergyConfig& config, const Eigen::Vector3d& direction)
 {
+  return SpotFootprintModel(config)(direction);
+}
+
+SpotFootprintModel::SpotFootprintModel(const EnergyConfig& config)
+  : defocus_mode_(config.defocus_mode == "fixed"   ? Defocus::kFixed
+                  : config.defocus_mode == "field" ? Defocus::kField
+                                                   : Defocus::kNone)
+  , defocus_m_(config.defocus_m)
+  , focus_distance_m_(config.focus_distance_m)
+  , w0_(0.5 * config.spot_diameter_m)
+  , rayleigh_m_(config.rayleighLength())
+  , oblique_incidence_(config.oblique_incidence)
+{
+}
+
+SpotFootprint SpotFootprintModel::operator()(const Eigen::Vector3d& direction) const
+{
   const double norm = direction.norm();
   if (!direction.allFinite() || !(std::abs(direction.z()) > 1e-6 * norm))
   {
@@ -22,16 +39,16 @@ SpotFootprint spotFootprint(const EnergyConfig& config, const Eigen::Vector3d& d
   const Eigen::Vector3d d = direction / norm;
   const double cos_theta = std::abs(d.z());
   SpotFootprint fp;
-  if (config.defocus_mode == "fixed")
-    fp.defocus_m = config.defocus_m;
-  else if (config.defocus_mode == "field")
-    fp.defocus_m = config.defocus_m + config.focus_distance_m * (1.0 / cos_theta - 1.0);
-  const double w0 = 0.5 * config.spot_diameter_m;
-  const double zr = config.rayleighLength();
+  if (defocus_mode_ == Defocus::kFixed)
+    fp.defocus_m = defocus_m_;
+  else if (defocus_mode_ == Defocus::kField)
+    fp.defocus_m = defocus_m_ + focus_distance_m_ * (1.0 / cos_theta - 1.0);
+  const double w0 = w0_;
+  const double zr = rayleigh_m_;
   const double w = fp.defocus_m == 0.0 ? w0 : w0 * std::sqrt(1.0 + (fp.defocus_m / zr) * (fp.defocus_m / zr));
   const double a = 2.0 / (w * w);
   fp.radius_m = w;
-  if (config.oblique_incidence)
+  if (oblique_incidence_)
   {
     fp.qxx = a * (1.0 - d.x() * d.x());
     fp.qxy = -a * d.x() * d.y();

@@ -5,6 +5,7 @@
 #include <malloc.h>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 #include "region_block_means.hpp"
@@ -319,17 +320,44 @@ void TiledEnergyMap::addRow(std::int64_t row, std::int64_t col, const float* x, 
   }
 }
 
+namespace
+{
+/// \brief sums[k] += pixel i (i ≡ k mod 8) in double and maxima[k] = max(maxima[k], pixel i) in pixel order, for
+/// \p count pixels (a multiple of 8): each lane the operations of a loop over k, so the same bits on every clone.
+__attribute__((target_clones("avx2", "default"))) void summariseLanes(const float* data, std::int64_t count,
+                                                                      double* sums, float* maxima)
+{
+  typedef float F4 __attribute__((vector_size(16)));
+  typedef float F8 __attribute__((vector_size(32)));
+  typedef double D4 __attribute__((vector_size(32)));
+  D4 low, high;
+  F8 max;
+  std::memcpy(&low, sums, sizeof low);
+  std::memcpy(&high, sums + 4, sizeof high);
+  std::memcpy(&max, maxima, sizeof max);
+  for (std::int64_t i = 0; i < count; i += 8)
+  {
+    F4 a, b;
+    F8 v;
+    std::memcpy(&a, data + i, sizeof a);
+    std::memcpy(&b, data + i + 4, sizeof b);
+    std::memcpy(&v, data + i, sizeof v);
+    low += __builtin_convertvector(a, D4);
+    high += __builtin_convertvector(b, D4);
+    max = v > max ? v : max;
+  }
+  std::memcpy(sums, &low, sizeof low);
+  std::memcpy(sums + 4, &high, sizeof high);
+  std::memcpy(maxima, &max, sizeof max);
+}
+}  // namespace
+
 TiledEnergyMap::TileSummary TiledEnergyMap::summariseTile(const float* data)
 {
   // Eight partial sums and maxima in a fixed order: deterministic, and the adds overlap.
   TileSummary t;
   float maxima[8] = {};
-  for (std::int64_t i = 0; i < kTilePixels; i += 8)
-    for (int k = 0; k < 8; ++k)
-    {
-      t.sums[k] += data[i + k];
-      maxima[k] = data[i + k] > maxima[k] ? data[i + k] : maxima[k];
-    }
+  summariseLanes(data, kTilePixels, t.sums, maxima);
   for (const float m : maxima)
     t.max = std::max(t.max, m);
   return t;

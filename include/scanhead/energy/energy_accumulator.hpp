@@ -103,6 +103,7 @@ private:
     kSampled
   };
   EnergyConfig config_;
+  SpotFootprintModel footprint_;  ///< the footprint of a sample's beam direction
   Method method_ = Method::kTrapezoid;
   TiledEnergyMap map_;
   bool has_pending_ = false;

@@ -41,6 +41,7 @@ private:
   void depositPoint(TiledEnergyMap& map, double cx, double cy, double energy_j, const SpotFootprint& fp,
                     double& outside_j);
   EnergyConfig config_;
+  SpotFootprintModel footprint_;  ///< the footprint of a sample's beam direction
   // Scratch (no allocation per sample).
   std::vector<double> gx_, gy_, row_sum_, prefix_;
   std::vector<float> gxf_, power_, ratio_;

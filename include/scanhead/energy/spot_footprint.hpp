@@ -28,4 +28,27 @@ struct SpotFootprint
 /// \pre config validated; direction finite with |d_z| > 0 (a grazing beam never reaches the plane)
 /// \throws NumericalError if the direction is not finite or runs parallel to the plane
 SpotFootprint spotFootprint(const EnergyConfig& config, const Eigen::Vector3d& direction);
+
+/// \brief spotFootprint with the configuration read once (the defocus mode, w0, z_R): the energy stage asks for a
+/// footprint every sample (30 M on the THESIS layer). The same expressions, the same bits.
+class SpotFootprintModel
+{
+public:
+  /// \pre config validated
+  explicit SpotFootprintModel(const EnergyConfig& config);
+  /// \copydoc spotFootprint
+  SpotFootprint operator()(const Eigen::Vector3d& direction) const;
+
+private:
+  enum class Defocus
+  {
+    kNone,
+    kFixed,
+    kField
+  };
+  Defocus defocus_mode_;
+  double defocus_m_, focus_distance_m_;
+  double w0_, rayleigh_m_;  ///< waist radius and z_R [m]
+  bool oblique_incidence_;
+};
 }  // namespace scanhead
