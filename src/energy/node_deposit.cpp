@@ -86,9 +86,11 @@ constexpr int kAnchorBlocks = 8;
 /// formed in float (relative error ~1e-7 of an exponent ≤ 13: ≤ 1.5e-6 of a weight); the blocks between by the
 /// second-order recurrence of a quadratic exponent: with D_k = a·p²·((d_k + 8)² − d_k²), e_{k+8} = e_k·e^{−D_k} and
 /// e^{−D_{k+8}} = e^{−D_k}·e^{−128·a·p²} (≤ 7 products compound: ~1e-6; at w = 35 µm a node spans 5 blocks).
-SCANHEAD_LANE_INLINE void axisGaussian(AxisLanes& axis, double centre, double origin, double p, double a, int rank,
-                                       int lead)
+template <int R>
+SCANHEAD_LANE_INLINE void axisGaussianOfRank(AxisLanes& axis, double centre, double origin, double p, double a,
+                                             int any_rank, int lead)
 {
+  const int rank = R > 0 ? R : any_rank;
   axis.lead = lead;
   axis.blocks = (lead + axis.n + 7) / 8;
   const std::size_t size = static_cast<std::size_t>(rank) * 8 * static_cast<std::size_t>(axis.blocks);
@@ -98,7 +100,7 @@ SCANHEAD_LANE_INLINE void axisGaussian(AxisLanes& axis, double centre, double or
   const float ap2 = static_cast<float>(a * p * p);
   const F8 q = energy_detail::expNeg(splat(128.0f * ap2));
   F8 e = splat(0.0f), ratio = e, dm = e;  // set at block 0 (an anchor)
-  F8 sums[NodeDeposit::kMaxRank];
+  F8 sums[R > 0 ? R : NodeDeposit::kMaxRank];
   for (int m = 0; m < rank; ++m)
     sums[m] = splat(0.0f);
   for (int b = 0; b < axis.blocks; ++b)
@@ -127,6 +129,24 @@ SCANHEAD_LANE_INLINE void axisGaussian(AxisLanes& axis, double centre, double or
     axis.sums[m] = energy_detail::laneSum(sums[m]);
 }
 
+/// \brief axisGaussianOfRank with the common ranks 1–3 known when compiled (the powers' loop unrolled, their sums in
+/// registers; the same operations).
+SCANHEAD_LANE_INLINE void axisGaussian(AxisLanes& axis, double centre, double origin, double p, double a, int rank,
+                                       int lead)
+{
+  switch (rank)
+  {
+    case 1:
+      return axisGaussianOfRank<1>(axis, centre, origin, p, a, 1, lead);
+    case 2:
+      return axisGaussianOfRank<2>(axis, centre, origin, p, a, 2, lead);
+    case 3:
+      return axisGaussianOfRank<3>(axis, centre, origin, p, a, 3, lead);
+    default:
+      return axisGaussianOfRank<0>(axis, centre, origin, p, a, rank, lead);
+  }
+}
+
 /// \brief Scratch of a window's draw (kept per thread: it grows to the largest node drawn).
 struct NodeScratch
 {
@@ -139,11 +159,18 @@ struct NodeScratch
 /// \brief rows[j][0 … 8·blocks) += Σ_m a[m·a_stride + j]·g[m·8·blocks + …] for a rank \p R known when compiled: the
 /// row's R factors broadcast once, the products summed in m order, then added (the same bits as the loop over any
 /// rank below and on every clone, no FMA).
-template <int R>
-SCANHEAD_LANE_INLINE void addOuterProductsOfRank(float* __restrict rows, std::size_t stride, int n_rows, int blocks,
+template <int R, int B = 0>
+SCANHEAD_LANE_INLINE void addOuterProductsOfRank(float* __restrict rows, std::size_t stride, int n_rows, int any_blocks,
                                                  const float* __restrict a, std::size_t a_stride,
                                                  const float* __restrict g)
 {
+  const int blocks = B > 0 ? B : any_blocks;
+  if (B == 0 && R <= 3 && (blocks == 5 || blocks == 6))
+  {
+    if (blocks == 5)
+      return addOuterProductsOfRank<R, 5>(rows, stride, n_rows, 5, a, a_stride, g);
+    return addOuterProductsOfRank<R, 6>(rows, stride, n_rows, 6, a, a_stride, g);
+  }
   const std::size_t g_stride = 8 * static_cast<std::size_t>(blocks);
   for (int j = 0; j < n_rows; ++j)
   {
