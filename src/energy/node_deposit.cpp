@@ -154,6 +154,7 @@ struct NodeScratch
   std::vector<float> a;                        ///< the rows' factors a_m[j], like y.g
   std::vector<std::int32_t> span_lo, span_hi;  ///< the window's rows' spans (WindowGrid)
   std::vector<double> sums;                    ///< their weights' sums
+  std::vector<float> window;                   ///< the window drawn (hot in cache; its rows' spans are copied out)
 };
 
 /// \brief rows[j][0 … 8·blocks) += Σ_m a[m·a_stride + j]·g[m·8·blocks + …] for a rank \p R known when compiled: the
@@ -435,16 +436,18 @@ void NodeDeposit::weigh(const TiledEnergyMap& map, const QuadratureNode* nodes, 
   grid.row_lo = static_cast<std::int64_t>(row_lo);
   grid.stride = (nx + 7) / 8 * 8 + 8;
   grid.truncation_radii = config_.truncation_radii;
-  std::vector<float>& window = out.weights;
+  // Drawn on the thread's scratch window (it stays in cache from one window to the next), then only the rows' spans
+  // are copied to out.weights: a diagonal window's box is ~3 times the band its nodes reach.
+  thread_local std::unique_ptr<NodeScratch> scratch;
+  if (!scratch)
+    scratch = std::make_unique<NodeScratch>();
+  std::vector<float>& window = scratch->window;
   const std::size_t window_floats = grid.stride * ny + 8;
   if (window.size() < window_floats)
     window.resize(window_floats);
   std::memset(window.data(), 0, window_floats * sizeof(float));  // (assign's loop stores 16 bytes at a time)
   const std::size_t base = (32 - reinterpret_cast<std::uintptr_t>(window.data()) % 32) % 32 / sizeof(float);
   grid.window = window.data() + base;
-  thread_local std::unique_ptr<NodeScratch> scratch;
-  if (!scratch)
-    scratch = std::make_unique<NodeScratch>();
   std::vector<std::int32_t>&span_lo = scratch->span_lo, &span_hi = scratch->span_hi;
   span_lo.assign(ny + 8, INT32_MAX);
   span_hi.assign(ny + 8, INT32_MIN);
@@ -456,7 +459,14 @@ void NodeDeposit::weigh(const TiledEnergyMap& map, const QuadratureNode* nodes, 
   std::vector<double>& sums = scratch->sums;
   sums.assign(ny, 0.0);
   spanSums(grid.window, grid.stride, ny, span_lo.data(), span_hi.data(), sums.data());
+  std::size_t kept = 0;
+  for (std::size_t j = 0; j < ny; ++j)
+    if (span_lo[j] <= span_hi[j])
+      kept += static_cast<std::size_t>(span_hi[j] - span_lo[j] + 1);
+  if (out.weights.size() < kept)
+    out.weights.resize(kept);
   double total = 0.0;
+  std::size_t offset = 0;
   for (std::size_t j = 0; j < ny; ++j)
   {
     if (span_lo[j] > span_hi[j])
@@ -465,8 +475,11 @@ void NodeDeposit::weigh(const TiledEnergyMap& map, const QuadratureNode* nodes, 
     r.row = grid.row_lo + static_cast<std::int64_t>(j);
     r.col = grid.col_lo + span_lo[j];
     r.n = span_hi[j] - span_lo[j] + 1;
-    r.offset = base + j * grid.stride + static_cast<std::size_t>(span_lo[j]);
+    r.offset = offset;
     r.sum = sums[j];
+    std::memcpy(out.weights.data() + offset, grid.window + j * grid.stride + static_cast<std::size_t>(span_lo[j]),
+                static_cast<std::size_t>(r.n) * sizeof(float));
+    offset += static_cast<std::size_t>(r.n);
     total += r.sum;
     out.rows.push_back(r);
   }
