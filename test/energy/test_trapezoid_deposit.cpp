@@ -195,3 +195,66 @@ TEST(NodeDeposit, OuterProductsAreTheGaussian)
       EXPECT_NEAR(drawn_total, node.energy_j, 1e-6 * node.energy_j);
     }
 }
+
+// A window of two nodes, the second a few pixels to the right of the first: its square then starts at another column
+// of an 8-column block and takes 5, 6 or 7 blocks (the kernels unrolled for 5 and 6 blocks and the loop over any
+// count), at ranks 1 to 5. Each pixel equals the sum of the two nodes' Gaussians, each normalised over its own square
+// to its energy, within 1.2e-4 of the peak (as above); the energy is the two nodes'.
+TEST(NodeDeposit, WindowOfTwoNodesIsTheSumOfTheirGaussians)
+{
+  EnergyConfig cfg;
+  const double p = cfg.pixel_m;
+  const scanhead::TiledEnergyMap map(Eigen::Vector2d(0, 0), Eigen::Vector2d(1e-3, 1e-3), p, 1u << 24);
+  NodeDeposit deposit(cfg);
+  for (const double incidence_deg : {0.0, 10.0, 30.0})
+    for (const double shift_pixels : {3.0, 6.0, 7.0})
+    {
+      const double t = incidence_deg * M_PI / 180.0, a = M_PI / 4.0;
+      const Eigen::Vector3d d(std::sin(t) * std::cos(a), std::sin(t) * std::sin(a), -std::cos(t));
+      QuadratureNode nodes[2];
+      for (int k = 0; k < 2; ++k)
+      {
+        nodes[k].footprint = scanhead::spotFootprint(cfg, d);
+        nodes[k].centre = Eigen::Vector2d(0.5e-3 + (0.37 + k * shift_pixels) * p, 0.5e-3 - (0.21 + 1.3 * k) * p);
+        nodes[k].energy_j = k == 0 ? 1e-3 : 0.6e-3;
+      }
+      scanhead::StrokeWeights w;
+      deposit.weigh(map, nodes, 2, w);
+      // Each node's Gaussian on its own square of half-side R (pixel centres within R along each axis), normalised.
+      const SpotFootprint& q = nodes[0].footprint;
+      const double radius = cfg.truncation_radii * q.major_radius_m;
+      auto gaussian = [&](const QuadratureNode& n, std::int64_t col, std::int64_t row) {
+        const double x = (static_cast<double>(col) + 0.5) * p - n.centre.x();
+        const double y = (static_cast<double>(row) + 0.5) * p - n.centre.y();
+        if (std::abs(x) > radius || std::abs(y) > radius)
+          return 0.0;
+        return std::exp(-(q.qxx * x * x + 2.0 * q.qxy * x * y + q.qyy * y * y));
+      };
+      double norm[2] = {0.0, 0.0};
+      for (int k = 0; k < 2; ++k)
+        for (std::int64_t row = 0; row < 200; ++row)
+          for (std::int64_t col = 0; col < 200; ++col)
+            norm[k] += gaussian(nodes[k], col, row);
+      double worst = 0.0, peak = 0.0, drawn_total = 0.0;
+      for (const scanhead::StrokeWeights::Row& r : w.rows)
+        for (int i = 0; i < r.n; ++i)
+        {
+          double ref = 0.0;
+          for (int k = 0; k < 2; ++k)
+            ref += nodes[k].energy_j * gaussian(nodes[k], r.col + i, r.row) / norm[k];
+          const double got = w.weights[r.offset + static_cast<std::size_t>(i)] / w.total * 1.6e-3;
+          worst = std::max(worst, std::abs(got - ref));
+          peak = std::max(peak, ref);
+          drawn_total += w.weights[r.offset + static_cast<std::size_t>(i)];
+        }
+      int widest = 0;
+      for (const scanhead::StrokeWeights::Row& r : w.rows)
+        widest = std::max(widest, r.n);
+      std::cout << "[window] incidence " << incidence_deg << "°, second node " << shift_pixels
+                << " px on: " << NodeDeposit::rank(q) << " products, widest row " << widest << " px, worst "
+                << worst / peak << " of the peak\n";
+      EXPECT_LT(worst / peak, 1.2e-4) << incidence_deg << "°, shift " << shift_pixels;
+      EXPECT_NEAR(drawn_total, 1.6e-3, 1e-6 * 1.6e-3);
+      EXPECT_NEAR(w.total, drawn_total, 1e-6 * drawn_total);  // (the rows are summed in float lanes)
+    }
+}
