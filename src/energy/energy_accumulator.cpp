@@ -181,7 +181,7 @@ void EnergyAccumulator::closeWindow()
     return;
   ++strokes_;
   window_ends_.push_back(staged_nodes_.size());
-  // Weights of the window: the box of its centres grown by a footprint's square (its rows of whole blocks).
+  // Weights of the window: at most the box of its centres grown by a footprint's square (its rows' spans are kept).
   const double p = map_.pixel();
   const double reach = 2.0 * config_.truncation_radii * open_.major_radius_m / p + 2.0;
   const Eigen::Vector2d box = (open_.hi - open_.lo) / p;
