@@ -157,35 +157,37 @@ struct NodeScratch
   std::vector<float> window;                   ///< the window drawn (hot in cache; its rows' spans are copied out)
 };
 
-/// \brief rows[j][0 … 8·blocks) += Σ_m a[m·a_stride + j]·g[m·8·blocks + …] for a rank \p R known when compiled: the
-/// row's R factors broadcast once, the products summed in m order, then added (the same bits as the loop over any
-/// rank below and on every clone, no FMA). For the 5 or 6 blocks a row a node's 35 columns take at w = 35 µm, 5 µm
-/// pixels, the block count \p B is known too: the row's loop unrolled, the g vectors kept in registers across the rows.
+/// \brief rows[j][0 … 8·blocks) += Σ_m a[m·a_stride + j]·g[m·8·blocks + …]: the row's factors broadcast once, the
+/// products summed in m order, then added (the same bits whatever R and B, and on every clone: no FMA). R > 0: the rank
+/// known when compiled (the factors in registers); 0: \p any_rank. For the 5 or 6 blocks a row a node's 35 columns take
+/// at w = 35 µm, 5 µm pixels, the block count \p B is known too: the row's loop unrolled, the g vectors kept in
+/// registers across the rows.
 template <int R, int B = 0>
 SCANHEAD_LANE_INLINE void addOuterProductsOfRank(float* __restrict rows, std::size_t stride, int n_rows, int any_blocks,
-                                                 const float* __restrict a, std::size_t a_stride,
+                                                 int any_rank, const float* __restrict a, std::size_t a_stride,
                                                  const float* __restrict g)
 {
+  const int rank = R > 0 ? R : any_rank;
   const int blocks = B > 0 ? B : any_blocks;
   if (B == 0 && (blocks == 5 || blocks == 6))
   {
     if (blocks == 5)
-      return addOuterProductsOfRank<R, 5>(rows, stride, n_rows, 5, a, a_stride, g);
-    return addOuterProductsOfRank<R, 6>(rows, stride, n_rows, 6, a, a_stride, g);
+      return addOuterProductsOfRank<R, 5>(rows, stride, n_rows, 5, rank, a, a_stride, g);
+    return addOuterProductsOfRank<R, 6>(rows, stride, n_rows, 6, rank, a, a_stride, g);
   }
   const std::size_t g_stride = 8 * static_cast<std::size_t>(blocks);
   for (int j = 0; j < n_rows; ++j)
   {
     float* __restrict row = rows + static_cast<std::size_t>(j) * stride;
-    F8 factor[R];
-    for (int m = 0; m < R; ++m)
+    F8 factor[R > 0 ? R : NodeDeposit::kMaxRank];
+    for (int m = 0; m < rank; ++m)
       factor[m] = splat(a[static_cast<std::size_t>(m) * a_stride + static_cast<std::size_t>(j)]);
     for (int b = 0; b < blocks; ++b)
     {
       F8 gb, v;
       std::memcpy(&gb, g + 8 * b, sizeof gb);
       F8 sum = factor[0] * gb;
-      for (int m = 1; m < R; ++m)
+      for (int m = 1; m < rank; ++m)
       {
         std::memcpy(&gb, g + static_cast<std::size_t>(m) * g_stride + 8 * b, sizeof gb);
         sum += factor[m] * gb;
@@ -197,48 +199,21 @@ SCANHEAD_LANE_INLINE void addOuterProductsOfRank(float* __restrict rows, std::si
   }
 }
 
-/// \brief The same for any rank (the factors read in the block loop: the ranks beyond the unrolled ones are rare).
-SCANHEAD_LANE_INLINE void addOuterProductsOfAnyRank(float* __restrict rows, std::size_t stride, int n_rows, int blocks,
-                                                    int rank, const float* __restrict a, std::size_t a_stride,
-                                                    const float* __restrict g)
-{
-  const std::size_t g_stride = 8 * static_cast<std::size_t>(blocks);
-  for (int j = 0; j < n_rows; ++j)
-  {
-    float* __restrict row = rows + static_cast<std::size_t>(j) * stride;
-    const F8 a0 = splat(a[j]);
-    for (int b = 0; b < blocks; ++b)
-    {
-      F8 gb, v;
-      std::memcpy(&gb, g + 8 * b, sizeof gb);
-      F8 sum = a0 * gb;
-      for (int m = 1; m < rank; ++m)
-      {
-        std::memcpy(&gb, g + static_cast<std::size_t>(m) * g_stride + 8 * b, sizeof gb);
-        sum += splat(a[static_cast<std::size_t>(m) * a_stride + static_cast<std::size_t>(j)]) * gb;
-      }
-      std::memcpy(&v, row + 8 * b, sizeof v);
-      v += sum;
-      std::memcpy(row + 8 * b, &v, sizeof v);
-    }
-  }
-}
-
-/// \brief rows[j][0 … 8·blocks) += Σ_m a[m·a_stride + j]·g[m·8·blocks + …], ranks 1–3 (98 % of a layer's nodes: 2 %,
-/// 71 % and 26 % on the THESIS layer) unrolled.
+/// \brief addOuterProductsOfRank with ranks 1–3 (98 % of a layer's nodes: 2 %, 71 % and 26 % on the THESIS layer)
+/// known when compiled.
 SCANHEAD_LANE_INLINE void addOuterProducts(float* __restrict rows, std::size_t stride, int n_rows, int blocks, int rank,
                                            const float* __restrict a, std::size_t a_stride, const float* __restrict g)
 {
   switch (rank)
   {
     case 1:
-      return addOuterProductsOfRank<1>(rows, stride, n_rows, blocks, a, a_stride, g);
+      return addOuterProductsOfRank<1>(rows, stride, n_rows, blocks, 1, a, a_stride, g);
     case 2:
-      return addOuterProductsOfRank<2>(rows, stride, n_rows, blocks, a, a_stride, g);
+      return addOuterProductsOfRank<2>(rows, stride, n_rows, blocks, 2, a, a_stride, g);
     case 3:
-      return addOuterProductsOfRank<3>(rows, stride, n_rows, blocks, a, a_stride, g);
+      return addOuterProductsOfRank<3>(rows, stride, n_rows, blocks, 3, a, a_stride, g);
     default:
-      return addOuterProductsOfAnyRank(rows, stride, n_rows, blocks, rank, a, a_stride, g);
+      return addOuterProductsOfRank<0>(rows, stride, n_rows, blocks, rank, a, a_stride, g);
   }
 }
 

@@ -43,9 +43,8 @@ SpotFootprint SpotFootprintModel::operator()(const Eigen::Vector3d& direction) c
     fp.defocus_m = defocus_m_;
   else if (defocus_mode_ == Defocus::kField)
     fp.defocus_m = defocus_m_ + focus_distance_m_ * (1.0 / cos_theta - 1.0);
-  const double w0 = w0_;
-  const double zr = rayleigh_m_;
-  const double w = fp.defocus_m == 0.0 ? w0 : w0 * std::sqrt(1.0 + (fp.defocus_m / zr) * (fp.defocus_m / zr));
+  const double w =
+      fp.defocus_m == 0.0 ? w0_ : w0_ * std::sqrt(1.0 + (fp.defocus_m / rayleigh_m_) * (fp.defocus_m / rayleigh_m_));
   const double a = 2.0 / (w * w);
   fp.radius_m = w;
   if (oblique_incidence_)
