@@ -155,11 +155,16 @@ inline double NearestPathIndex::elementDistance(std::uint32_t element, const Eig
 template <class F>
 void NearestPathIndex::forEachElement(F&& f) const
 {
+  forEachElementIn(0, path_->size(), f);
+}
+
+template <class F>
+void NearestPathIndex::forEachElementIn(std::size_t from, std::size_t to, F&& f) const
+{
   // A zero-length segment whose point ends the previous segment adds nothing (by induction on i, the previous point
   // is always covered).
   const PathPoints& path = *path_;
-  const std::size_t n = path.size();
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = from; i < to; ++i)
   {
     const bool joins = path.joinsNext(i);
     const bool zero_length = !joins || path.point(i + 1) == path.point(i);
@@ -243,6 +248,35 @@ private:
   std::size_t released_ = 0;
 };
 
+/// Runs task(1) on \p side (if any) beside task(0) on this thread, and waits for both; the first error is rethrown once
+/// both are done (the tasks share the caller's locals).
+template <class Task>
+void onBothHalves(SideThread* side, const Task& task)
+{
+  if (!side)
+  {
+    task(0);
+    return;
+  }
+  side->start([&task] { task(1); });
+  try
+  {
+    task(0);
+  }
+  catch (...)
+  {
+    try
+    {
+      side->wait();
+    }
+    catch (...)  // the first error is the one reported
+    {
+    }
+    throw;
+  }
+  side->wait();
+}
+
 [[noreturn]] void throwTooLarge()
 {
   throw InputError("contour error: actual path too large for the index (more than 2^32 cell entries)");
@@ -286,18 +320,38 @@ void NearestPathIndex::buildTop(std::size_t count, const Box& region, unsigned t
   const auto each = [this](auto&& f) { forEachElement(f); };
   Grid top = layGrid(each, count, region);
   const std::size_t ncells = static_cast<std::size_t>(top.nx) * top.ny;
+  std::unique_ptr<SideThread> side = threads >= 2 && count > kParallelAbove ? std::make_unique<SideThread>() : nullptr;
+
+  // Counted and listed on two threads, each over its half of the path (the points before `half`, the others): in
+  // every cell the first half's ids come first, so the lists are those of one thread, id for id.
+  const std::size_t n = path_->size(), half = side ? n / 2 : n;
+  const auto eachOfHalf = [this, n, half](int h) {
+    return [this, from = h == 0 ? std::size_t{0} : half, to = h == 0 ? half : n](auto&& f) {
+      forEachElementIn(from, to, f);
+    };
+  };
+  std::vector<std::size_t> counts[2] = {std::vector<std::size_t>(ncells, 0),
+                                        std::vector<std::size_t>(side ? ncells : 0, 0)};
+  onBothHalves(side.get(), [&](int h) {
+    listCells(eachOfHalf(h), top, [count = counts[h].data()](std::uint32_t, std::size_t c) { ++count[c]; });
+  });
   std::vector<std::size_t> start(ncells + 1, 0);
-  listCells(each, top, [&](std::uint32_t, std::size_t c) { ++start[c + 1]; });
+  std::vector<std::size_t> next_id[2] = {std::vector<std::size_t>(ncells), std::vector<std::size_t>(side ? ncells : 0)};
   for (std::size_t c = 0; c < ncells; ++c)
-    start[c + 1] += start[c];
+  {
+    next_id[0][c] = start[c];
+    if (side)
+      next_id[1][c] = start[c] + counts[0][c];
+    start[c + 1] = start[c] + counts[0][c] + (side ? counts[1][c] : 0);
+  }
   if (start[ncells] > std::numeric_limits<std::uint32_t>::max())
     throwTooLarge();
   ReleasablePages sorted(start[ncells] * sizeof(std::uint32_t));
   auto* ids = static_cast<std::uint32_t*>(sorted.data());
-  {
-    std::vector<std::size_t> next(start.begin(), start.end() - 1);
-    listCells(each, top, [&](std::uint32_t e, std::size_t c) { ids[next[c]++] = e; });
-  }
+  onBothHalves(side.get(), [&](int h) {
+    listCells(eachOfHalf(h), top,
+              [ids, next = next_id[h].data()](std::uint32_t e, std::size_t c) { ids[next[c]++] = e; });
+  });
 
   // Each cell refined into its own part, in any order, on up to two threads: a part depends on its cell alone. The
   // lists' pages below the first cell not yet done go back to the system.
@@ -327,7 +381,6 @@ void NearestPathIndex::buildTop(std::size_t count, const Box& region, unsigned t
       sorted.releaseBelow(start[first_pending] * sizeof(std::uint32_t));
     }
   };
-  std::unique_ptr<SideThread> side = threads >= 2 && count > kParallelAbove ? std::make_unique<SideThread>() : nullptr;
   if (side)
     side->start(work);
   try

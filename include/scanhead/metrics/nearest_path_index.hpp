@@ -50,7 +50,8 @@ struct NearestPathHint
 ///   of all its distinct segments (~1000), tested by every query near it (exact, slower).
 /// - Memory O(n): refinements may duplicate at most 2 ids per id of the top grid (beyond that, cells stay
 ///   unrefined: slower, still exact); 6–18 B per point on hatches (8 at 1e7).
-/// - Build O(n · levels), on up to two threads: the top grid's cells are refined independently (each with its own
+/// - Build O(n · levels), on up to two threads: the top grid's lists are counted and filled over the two halves of the
+///   path (the first half's ids first in every cell), and its cells are refined independently (each with its own
 ///   duplicate budget, 2 ids per id it lists), so the index is the same whatever the thread count. Transient memory:
 ///   the top grid's cell lists and the refined parts (about twice the final index), never the whole path's ids twice
 ///   more (the THESIS layer: 30.5 M points).
@@ -118,6 +119,9 @@ private:
   /// \brief Calls f(element) for each indexed element of the path (segment i → i+1, or the isolated point i).
   template <class F>
   void forEachElement(F&& f) const;
+  /// \brief forEachElement over the path's points [from, to) (a segment i → i+1 is point i's element).
+  template <class F>
+  void forEachElementIn(std::size_t from, std::size_t to, F&& f) const;
   /// \brief The grid over \p region sized for \p count elements (each(f) calls f on each).
   template <class Each>
   Grid layGrid(const Each& each, std::size_t count, const Box& region) const;
