@@ -322,8 +322,8 @@ void NearestPathIndex::buildTop(std::size_t count, const Box& region, unsigned t
   const std::size_t ncells = static_cast<std::size_t>(top.nx) * top.ny;
   std::unique_ptr<SideThread> side = threads >= 2 && count > kParallelAbove ? std::make_unique<SideThread>() : nullptr;
 
-  // Counted and listed on two threads, each over its half of the path (the points before `half`, the others): in
-  // every cell the first half's ids come first, so the lists are those of one thread, id for id.
+  // Counted and listed on two threads when there are two, each over its half of the path (the points before `half`,
+  // the others): in every cell the first half's ids come first, so the lists are those of one thread, id for id.
   const std::size_t n = path_->size(), half = side ? n / 2 : n;
   const auto eachOfHalf = [this, n, half](int h) {
     return [this, from = h == 0 ? std::size_t{0} : half, to = h == 0 ? half : n](auto&& f) {
