@@ -54,8 +54,17 @@ void NcInterpolatorNode::onJob(const ScanJob& msg)
     ROS_INFO("nc: job %u %s", msg.job_id, runPlanText(run_plan).c_str());
     for (const std::string& warning : run_plan.warnings)
       ROS_WARN("nc: job %u: warning: %s", msg.job_id, warning.c_str());
-    auto nc = std::make_unique<NcStage>(config_, *optics_);
-    nc->reset(job);
+    std::unique_ptr<NcStage> nc = spare_nc_ ? std::move(spare_nc_) : std::make_unique<NcStage>(config_, *optics_);
+    try
+    {
+      nc->reset(job);
+    }
+    catch (...)
+    {
+      spare_nc_ = std::move(nc);  // (started again by the next job)
+      throw;
+    }
+    spare_nc_ = std::move(nc_);
     nc_ = std::move(nc);
     // Before any chunk of the job; shared, so a nodelet energy stage gets it without a copy.
     plan_pub_.publish(boost::make_shared<const NcJobPlan>(toMsg(nc_->plan(), msg.job_id, settings_yaml_)));
@@ -154,7 +163,7 @@ void NcInterpolatorNode::onTimer(const ros::TimerEvent&)
 void NcInterpolatorNode::abandon(const std::string& why)
 {
   ROS_ERROR("nc: job %u abandoned: %s", window_.jobId(), why.c_str());
-  nc_.reset();
+  spare_nc_ = std::move(nc_);
   setpoint_out_.clear();
   laser_out_.clear();
   debug_out_.clear();

@@ -41,10 +41,9 @@ struct Streams
   std::vector<NcDebugSample> debug;
 };
 
-Streams run(const NcConfig& config, const Job& job, std::size_t chunk)
+/// The streams of the job \p nc was started on, in chunks of \p chunk samples.
+Streams drain(NcInterpolator& nc, const NcConfig& config, std::size_t chunk)
 {
-  NcInterpolator nc(config, nominalOptics());
-  nc.start(job);
   Streams s;
   std::uint64_t expected_first = 0;
   while (!nc.done())
@@ -73,6 +72,13 @@ Streams run(const NcConfig& config, const Job& job, std::size_t chunk)
   }
   EXPECT_EQ(expected_first, nc.totalSamples());
   return s;
+}
+
+Streams run(const NcConfig& config, const Job& job, std::size_t chunk)
+{
+  NcInterpolator nc(config, nominalOptics());
+  nc.start(job);
+  return drain(nc, config, chunk);
 }
 
 /// Two 4 mm legs meeting at the origin with direction change gamma: in along +x, out at gamma.
@@ -353,6 +359,39 @@ TEST(NcInterpolator, ChunkSizeDoesNotChangeOutput)
   {
     ASSERT_EQ(again.setpoint.samples[n].position, ref.setpoint[n].position);
   }
+}
+
+// The node graph's NC node starts the same NC again for each job (its IGT tables are built once, ~2.7 ms): a job after
+// another one, and after a start that failed, gives the streams of a new NC, bit for bit.
+TEST(NcInterpolator, StartedAgainForAnotherJobGivesTheStreamsOfANewOne)
+{
+  NcConfig config;
+  config.debug = true;
+  const Job second = cornerJob(2.0, Eigen::Vector2d(-0.6, 0.8));
+  NcInterpolator fresh_nc(config, nominalOptics());
+  fresh_nc.start(second);
+  const Streams fresh = drain(fresh_nc, config, 1000);
+  NcInterpolator nc(config, nominalOptics());
+  nc.start(laserJob());
+  ASSERT_FALSE(drain(nc, config, 777).setpoint.empty());  // the whole first job
+  Job unreachable = laserJob();
+  unreachable.polylines[3].points[1] = Eigen::Vector2d(0.3, -2.5e-3);
+  EXPECT_THROW(nc.start(unreachable), NumericalError);
+  nc.start(second);
+  const Streams again = drain(nc, config, 1000);
+  ASSERT_EQ(again.setpoint.size(), fresh.setpoint.size());
+  ASSERT_EQ(again.debug.size(), fresh.debug.size());
+  for (std::size_t n = 0; n < fresh.setpoint.size(); ++n)
+  {
+    ASSERT_EQ(again.setpoint[n].position, fresh.setpoint[n].position) << n;
+    ASSERT_EQ(again.setpoint[n].velocity, fresh.setpoint[n].velocity) << n;
+    ASSERT_EQ(again.setpoint[n].acceleration, fresh.setpoint[n].acceleration) << n;
+    ASSERT_EQ(again.laser[n].power_w, fresh.laser[n].power_w) << n;
+    ASSERT_EQ(again.debug[n].q_inter, fresh.debug[n].q_inter) << n;
+    ASSERT_EQ(again.debug[n].q_filt1, fresh.debug[n].q_filt1) << n;
+  }
+  EXPECT_EQ(nc.stats().max_accel_radps2, fresh_nc.stats().max_accel_radps2);  // the job's own statistics
+  EXPECT_EQ(nc.stats().laser_on_samples, fresh_nc.stats().laser_on_samples);
 }
 
 // The Newton IGT (a block: bicubic-table start, one simplified Newton step, both residuals traced)
