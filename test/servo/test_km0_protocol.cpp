@@ -295,6 +295,57 @@ TEST(Km0Report, VerdictBoundaries)
   EXPECT_EQ(km0Verdict(std::numeric_limits<double>::quiet_NaN(), l), Km0Verdict::Intervene);
 }
 
+// config/km0.yaml and Km0Config's defaults are the same values (both say so): the file a user edits and the protocol
+// run without --config cannot drift apart unnoticed.
+TEST(Km0Config, ShippedFileHoldsTheDefaults)
+{
+  const Km0Config file = loadKm0Config(std::string(SCANHEAD_SOURCE_DIR) + "/config/km0.yaml");
+  const Km0Config defaults;
+  const Km0SignalConfig &a = file.signal, &b = defaults.signal;
+  EXPECT_EQ(a.joint_lower_rad, b.joint_lower_rad);
+  EXPECT_EQ(a.joint_upper_rad, b.joint_upper_rad);
+  EXPECT_EQ(a.range_margin_deg, b.range_margin_deg);
+  EXPECT_EQ(a.max_speed_radps, b.max_speed_radps);
+  EXPECT_EQ(a.fir_t1_s, b.fir_t1_s);
+  EXPECT_EQ(a.fir_t2_s, b.fir_t2_s);
+  EXPECT_EQ(a.small_steps_deg, b.small_steps_deg);
+  EXPECT_EQ(a.large_steps_deg, b.large_steps_deg);
+  EXPECT_EQ(a.ramp_speeds_radps, b.ramp_speeds_radps);
+  EXPECT_EQ(a.ramp_duration_s, b.ramp_duration_s);
+  EXPECT_EQ(a.min_ramp_duration_s, b.min_ramp_duration_s);
+  EXPECT_EQ(a.step_hold_s, b.step_hold_s);
+  EXPECT_EQ(a.ramp_hold_s, b.ramp_hold_s);
+  EXPECT_EQ(a.start_hold_s, b.start_hold_s);
+  EXPECT_EQ(file.metric.start_threshold_deg, defaults.metric.start_threshold_deg);
+  EXPECT_EQ(file.metric.settling_band, defaults.metric.settling_band);
+  EXPECT_EQ(file.metric.plane_mm_per_deg, defaults.metric.plane_mm_per_deg);
+  const Km0Thresholds &t = file.thresholds, &d = defaults.thresholds;
+  const std::pair<const char*, std::pair<Km0Limit, Km0Limit>> limits[] = {
+      {"small_start_delay_s", {t.small_start_delay_s, d.small_start_delay_s}},
+      {"small_overshoot_pct", {t.small_overshoot_pct, d.small_overshoot_pct}},
+      {"small_settling_time_s", {t.small_settling_time_s, d.small_settling_time_s}},
+      {"small_static_error_deg", {t.small_static_error_deg, d.small_static_error_deg}},
+      {"large_start_delay_s", {t.large_start_delay_s, d.large_start_delay_s}},
+      {"large_overshoot_pct", {t.large_overshoot_pct, d.large_overshoot_pct}},
+      {"large_settling_excess_s", {t.large_settling_excess_s, d.large_settling_excess_s}},
+      {"large_static_error_deg", {t.large_static_error_deg, d.large_static_error_deg}},
+      {"ramp_lag_s", {t.ramp_lag_s, d.ramp_lag_s}},
+      {"ramp_speed_error_pct", {t.ramp_speed_error_pct, d.ramp_speed_error_pct}},
+      {"ramp_speed_settling_s", {t.ramp_speed_settling_s, d.ramp_speed_settling_s}},
+      {"ramp_friction_excess_pct", {t.ramp_friction_excess_pct, d.ramp_friction_excess_pct}},
+  };
+  for (const auto& [name, pair] : limits)
+  {
+    EXPECT_EQ(pair.first.watch, pair.second.watch) << name;
+    EXPECT_EQ(pair.first.intervene, pair.second.intervene) << name;
+  }
+  EXPECT_EQ(file.baseline.from_servo, defaults.baseline.from_servo);
+  EXPECT_EQ(file.baseline.viscous_nms, defaults.baseline.viscous_nms);
+  EXPECT_EQ(file.baseline.offset_torque_nm, defaults.baseline.offset_torque_nm);
+  EXPECT_EQ(file.baseline.coulomb_torque_nm, defaults.baseline.coulomb_torque_nm);
+  EXPECT_EQ(file.baseline.reference_floor_nm, defaults.baseline.reference_floor_nm);
+}
+
 // The default galvos pass their own KM0 (thresholds derived from the healthy machine with
 // margins), the report is valid YAML with every step and ramp, and the CSV files are written.
 // A worn galvo (Coulomb friction doubled) is flagged, and the friction fit sees the new Tc (5 %).
