@@ -251,7 +251,7 @@ private:
 /// Runs task(1) on \p side (if any) beside task(0) on this thread, and waits for both; the first error is rethrown once
 /// both are done (the tasks share the caller's locals).
 template <class Task>
-void onBothHalves(SideThread* side, const Task& task)
+void onBothThreads(SideThread* side, const Task& task)
 {
   if (!side)
   {
@@ -332,7 +332,7 @@ void NearestPathIndex::buildTop(std::size_t count, const Box& region, unsigned t
   };
   std::vector<std::size_t> counts[2] = {std::vector<std::size_t>(ncells, 0),
                                         std::vector<std::size_t>(side ? ncells : 0, 0)};
-  onBothHalves(side.get(), [&](int h) {
+  onBothThreads(side.get(), [&](int h) {
     listCells(eachOfHalf(h), top, [count = counts[h].data()](std::uint32_t, std::size_t c) { ++count[c]; });
   });
   std::vector<std::size_t> start(ncells + 1, 0);
@@ -348,7 +348,7 @@ void NearestPathIndex::buildTop(std::size_t count, const Box& region, unsigned t
     throwTooLarge();
   ReleasablePages sorted(start[ncells] * sizeof(std::uint32_t));
   auto* ids = static_cast<std::uint32_t*>(sorted.data());
-  onBothHalves(side.get(), [&](int h) {
+  onBothThreads(side.get(), [&](int h) {
     listCells(eachOfHalf(h), top,
               [ids, next = next_id[h].data()](std::uint32_t e, std::size_t c) { ids[next[c]++] = e; });
   });
@@ -381,29 +381,17 @@ void NearestPathIndex::buildTop(std::size_t count, const Box& region, unsigned t
       sorted.releaseBelow(start[first_pending] * sizeof(std::uint32_t));
     }
   };
-  if (side)
-    side->start(work);
-  try
-  {
-    work();
-  }
-  catch (...)
-  {
-    failed = true;
-    if (side)
+  onBothThreads(side.get(), [&](int) {
+    try
     {
-      try
-      {
-        side->wait();
-      }
-      catch (...)  // the first error is the one reported
-      {
-      }
+      work();
     }
-    throw;
-  }
-  if (side)
-    side->wait();
+    catch (...)
+    {
+      failed = true;  // the other thread takes no more cells
+      throw;
+    }
+  });
 
   // The index keeps the parts (no copy of their arrays): each grid points at its part's offsets and items, a part's
   // grid numbers shifted past those before it; a top cell lists its refinement's grid, or its leaf (moved here).
