@@ -47,8 +47,9 @@ ChainConfig loadChainConfig(const std::string& path, const std::vector<std::stri
 std::string chainConfigToYaml(const ChainConfig& config);
 
 /// \brief The settings that differ between two configs written by chainConfigToYaml, as
-/// "key: <value in a> vs <value in b>", sorted by key, for the keys under \p sections (e.g. "nc").
-/// \throws InputError if a text is not such YAML
+/// "key: <value in a> vs <value in b>", sorted by key, for the keys under \p sections (e.g. "nc"). Identical texts
+/// differ in nothing (they are not read).
+/// \throws InputError if the texts differ and one is not such YAML
 std::vector<std::string> differingSettings(const std::string& yaml_a, const std::string& yaml_b,
                                            const std::vector<std::string>& sections);
 
